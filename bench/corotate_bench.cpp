@@ -1,0 +1,198 @@
+// corotate_bench: times the co-rotational implicit step without Python.
+//
+// For each mesh it builds the body, computes a converged reference trajectory, then runs
+// each solver configuration and prints precompute time, median ms per step (split into
+// rotations, assembly and solve), CG iterations per step, the real-time ratio and the mean
+// tip z-displacement with its deviation from the reference. See bench/README.md.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "beam_scenario.hpp"
+#include "corotate/models/model_factory.hpp"
+#include "corotate/simulation.hpp"
+#include "corotate/solvers/direct_solver.hpp"
+#include "corotate/solvers/pcg.hpp"
+
+using namespace corotate;
+using clock_type = std::chrono::steady_clock;
+
+namespace {
+
+struct Config {
+  std::string name;
+  std::string solver;  // "pcg" or "direct"
+  PCGSettings pcg;
+};
+
+struct Options {
+  std::vector<int> sizes = {1, 2, 4, 8};  // refinement factors: 10x2x2 cubes times this
+  std::string mesh_path;
+  int steps = 100;
+  double dt = 0.01;
+  bool lumped = false;
+  std::vector<std::string> configs = {"paper", "default"};
+  PCGSettings custom;  // the 'custom' configuration, set by --preconditioner, --tolerance, --cap, --cold
+};
+
+struct RunResult {
+  double precompute_ms = 0, median_ms = 0, rotation_ms = 0, assembly_ms = 0, solve_ms = 0;
+  double iterations = 0, real_time_ratio = 0, tip_z = 0;
+  int max_iterations = 0;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+Config config_by_name(const std::string& name, const Options& opt) {
+  Config c{name, "pcg", {}};
+  if (name == "paper") {  // the paper's setting: Jacobi PCG capped at 20, cold start
+    c.pcg = {20, 1e-6, false, PreconditionerKind::Jacobi};
+  } else if (name == "paper_warm") {
+    c.pcg = {20, 1e-6, true, PreconditionerKind::Jacobi};
+  } else if (name == "block_jacobi") {  // warm-started block-Jacobi run to the tolerance
+    c.pcg = {1000, 1e-6, true, PreconditionerKind::BlockJacobi};
+  } else if (name == "default") {  // corotate's default: see bench/README.md
+    c.pcg = {20, 1e-3, true, PreconditionerKind::ReferenceFactor};
+  } else if (name == "reference") {  // converged: tight tolerance, no cap that binds
+    c.pcg = {10000, 1e-10, true, PreconditionerKind::ReferenceFactor};
+  } else if (name == "custom") {
+    c.pcg = opt.custom;
+  } else if (name == "direct") {
+    c.solver = "direct";
+  } else {
+    throw InvalidInput("unknown configuration '" + name + "'");
+  }
+  return c;
+}
+
+RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& opt) {
+  RunResult r;
+  const auto t0 = clock_type::now();
+  std::unique_ptr<LinearSolver> solver;
+  if (config.solver == "direct") solver = std::make_unique<DirectSolver>();
+  else solver = std::make_unique<PCG>(config.pcg);
+  Material material{1e7, 0.3, 1000.0};
+  Simulation sim(make_model("corotational", "tetra", mesh.points, mesh.cells, material),
+                 ImplicitEulerSettings{opt.dt, 0.0, 0.0, opt.lumped}, std::move(solver));
+  const double x_min = mesh.points.row(0).minCoeff(), x_max = mesh.points.row(0).maxCoeff();
+  std::vector<Index> fixed, tip;
+  for (Index i = 0; i < mesh.points.cols(); ++i) {
+    if (mesh.points(0, i) <= x_min + 1e-9) fixed.push_back(i);
+    if (mesh.points(0, i) >= x_max - 1e-9) tip.push_back(i);
+  }
+  sim.set_fixed_nodes(fixed);
+  sim.set_gravity(Vec3(0, 0, -9.81));
+  r.precompute_ms = std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
+
+  std::vector<double> total, rot, asm_, sol;
+  double iterations = 0;
+  for (int s = 0; s < opt.steps; ++s) {
+    sim.step(1);
+    const auto& st = sim.stats().last;
+    total.push_back(st.total_ms);
+    rot.push_back(st.rotation_ms);
+    asm_.push_back(st.assembly_ms);
+    sol.push_back(st.solve_ms);
+    iterations += st.solve.iterations;
+    r.max_iterations = std::max(r.max_iterations, st.solve.iterations);
+  }
+  r.median_ms = median(total);
+  r.rotation_ms = median(rot);
+  r.assembly_ms = median(asm_);
+  r.solve_ms = median(sol);
+  r.iterations = iterations / opt.steps;
+  r.real_time_ratio = sim.stats().real_time_ratio();
+  for (Index i : tip) r.tip_z += sim.positions()(2, i) - mesh.points(2, i);
+  r.tip_z /= tip.size();
+  return r;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= s.size()) {
+    const size_t comma = s.find(',', start);
+    out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+void usage() {
+  std::puts(
+      "usage: corotate_bench [options]\n"
+      "Times the co-rotational implicit step on the standard beam (bench/README.md) or a mesh.\n"
+      "  --sizes 1,2,4,8     refinement factors of the 10x2x2-cube beam (1 -> 240 tets, 2 -> 1920,\n"
+      "                      4 -> 15360, 8 -> 122880); default 1,2,4,8\n"
+      "  --mesh FILE         a TetGen .node/.ele mesh instead of the beam (fixed: nodes at min x)\n"
+      "  --configs LIST      solver configurations among paper, paper_warm, block_jacobi, default,\n"
+      "                      direct, reference, custom; default paper,default\n"
+      "  --steps N           steps per run (default 100)\n"
+      "  --dt SECONDS        time step (default 0.01)\n"
+      "  --lumped            lumped instead of consistent mass\n"
+      "  --preconditioner P, --tolerance T, --cap N, --cold\n"
+      "                      settings of the 'custom' configuration (none, jacobi, block_jacobi,\n"
+      "                      reference_factor; default block_jacobi, 1e-6, 20, warm start)\n"
+      "Each mesh first runs 'reference' (PCG to 1e-10) so deviations are measured honestly.");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  try {
+    for (int a = 1; a < argc; ++a) {
+      const std::string arg = argv[a];
+      auto value = [&]() -> std::string {
+        if (a + 1 >= argc) throw InvalidInput("missing value after " + arg);
+        return argv[++a];
+      };
+      if (arg == "--help" || arg == "-h") { usage(); return 0; }
+      else if (arg == "--sizes") { opt.sizes.clear(); for (auto& s : split(value())) opt.sizes.push_back(std::stoi(s)); }
+      else if (arg == "--mesh") opt.mesh_path = value();
+      else if (arg == "--configs") opt.configs = split(value());
+      else if (arg == "--steps") opt.steps = std::stoi(value());
+      else if (arg == "--dt") opt.dt = std::stod(value());
+      else if (arg == "--lumped") opt.lumped = true;
+      else if (arg == "--preconditioner") opt.custom.preconditioner = preconditioner_kind_from_name(value());
+      else if (arg == "--tolerance") opt.custom.tolerance = std::stod(value());
+      else if (arg == "--cap") opt.custom.max_iterations = std::stoi(value());
+      else if (arg == "--cold") opt.custom.warm_start = false;
+      else throw InvalidInput("unknown option " + arg + " (see --help)");
+    }
+    std::vector<std::pair<std::string, bench::TetMesh>> meshes;
+    if (!opt.mesh_path.empty()) meshes.emplace_back(opt.mesh_path, bench::read_tetgen(opt.mesh_path));
+    else
+      for (int s : opt.sizes)
+        meshes.emplace_back("beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),
+                            bench::structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
+
+    std::printf("scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, one thread\n",
+                opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent");
+    std::printf("%-16s %7s %-13s %9s %8s %7s %7s %7s %7s %6s %8s %10s %8s\n", "mesh", "tets", "config", "precmp_ms",
+                "ms/step", "rot", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]");
+    for (const auto& [label, mesh] : meshes) {
+      const RunResult ref = run(mesh, config_by_name("reference", opt), opt);
+      auto print = [&](const std::string& name, const RunResult& r) {
+        std::printf("%-16s %7ld %-13s %9.1f %8.3f %7.3f %7.3f %7.3f %7.2f %6d %8.2f %10.5f %8.3f\n", label.c_str(),
+                    static_cast<long>(mesh.cells.rows()), name.c_str(), r.precompute_ms, r.median_ms, r.rotation_ms,
+                    r.assembly_ms, r.solve_ms, r.iterations, r.max_iterations, r.real_time_ratio, r.tip_z,
+                    100.0 * (r.tip_z - ref.tip_z) / ref.tip_z);
+        std::fflush(stdout);
+      };
+      print("reference", ref);
+      for (const auto& name : opt.configs) print(name, run(mesh, config_by_name(name, opt), opt));
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "corotate_bench: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,42 @@
+// Trilinear hexahedron (VTK "hexahedron" ordering) on the reference cube [-1, 1]^3:
+// nodes 0..3 on the bottom face (zeta = -1) counter-clockwise from (-1, -1), 4..7 above them.
+#pragma once
+
+#include "corotate/elements/quadrature.hpp"
+
+namespace corotate {
+
+struct Hex8 {
+  static constexpr int num_nodes = 8;
+  static constexpr const char* name = "hexahedron";
+  using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
+  using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;
+
+  static Vec3 node(int a) {
+    static const double s[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                   {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    return Vec3(s[a][0], s[a][1], s[a][2]);
+  }
+  static ShapeValues shape(const Vec3& xi) {
+    ShapeValues n;
+    for (int a = 0; a < num_nodes; ++a) {
+      const Vec3 s = node(a);
+      n(a) = 0.125 * (1 + s.x() * xi.x()) * (1 + s.y() * xi.y()) * (1 + s.z() * xi.z());
+    }
+    return n;
+  }
+  static ShapeGradient shape_gradient(const Vec3& xi) {
+    ShapeGradient g;
+    for (int a = 0; a < num_nodes; ++a) {
+      const Vec3 s = node(a);
+      const double fx = 1 + s.x() * xi.x(), fy = 1 + s.y() * xi.y(), fz = 1 + s.z() * xi.z();
+      g.row(a) << 0.125 * s.x() * fy * fz, 0.125 * fx * s.y() * fz, 0.125 * fx * fy * s.z();
+    }
+    return g;
+  }
+  static Vec3 centre() { return Vec3::Zero(); }
+  static const QuadratureRule& stiffness_rule() { static const auto r = gauss_cube(2); return r; }
+  static const QuadratureRule& mass_rule() { static const auto r = gauss_cube(2); return r; }
+};
+
+}  // namespace corotate

@@ -1,0 +1,30 @@
+// Fixed degrees of freedom imposed on a linear system A dx = b by projection: the rows and
+// columns of fixed DOFs are zeroed and their diagonal set to one, their right-hand side to
+// zero, so the solution is zero there and the matrix stays symmetric positive definite.
+// The value indices that this touches are found once, when the fixed set changes.
+#pragma once
+
+#include <vector>
+
+#include "corotate/sparse/block_sparse_matrix.hpp"
+
+namespace corotate {
+
+class FixedDofs {
+ public:
+  FixedDofs() = default;
+  // fixed: one flag per DOF (3 * num_nodes), nonzero = fixed.
+  FixedDofs(const BlockSparseMatrix& pattern, const std::vector<char>& fixed);
+
+  bool empty() const { return fixed_list_.empty(); }
+  const std::vector<Index>& list() const { return fixed_list_; }
+  void project(BlockSparseMatrix& A) const;
+  void project(Vec& b) const;
+
+ private:
+  std::vector<Index> fixed_list_;   // DOF indices
+  std::vector<int> zero_values_;    // value indices to zero
+  std::vector<int> unit_values_;    // value indices of fixed diagonal entries
+};
+
+}  // namespace corotate

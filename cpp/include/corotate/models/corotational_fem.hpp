@@ -1,0 +1,42 @@
+// Co-rotational linear FEM (paper section 2.2, eqs 3-4).
+//
+// Per element the rotation R_e is the polar rotation of the deformation gradient at the
+// element centre (tet: F = Ds Dm^-1). Forces are the linear element forces computed in the
+// element's unrotated frame and rotated back:
+//     f_e = -R_e K_e (R_e^T x_e - X_e),
+// and the stiffness is the rotated element stiffness R_e K_e R_e^T (eq. 4), scattered into
+// the fixed global pattern.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "corotate/models/fe_model.hpp"
+
+namespace corotate {
+
+template <class E>
+class CorotationalFEM final : public FEModel<E> {
+ public:
+  CorotationalFEM(const Nodes& rest, const Connectivity& cells, const Material& material);
+
+  const char* name() const override { return "corotational"; }
+  bool is_linear() const override { return false; }
+  void update(const Nodes& x) override;
+  void add_forces(const Nodes& x, Nodes& f) const override;
+  void add_stiffness(double scale, BlockSparseMatrix& A) const override;
+  void add_forces_and_stiffness(const Nodes& x, Nodes& f, double scale, BlockSparseMatrix& A) const override;
+  double energy(const Nodes& x) const override;
+
+  // R_e of the last update (3 x 3 per element).
+  const std::vector<Mat3>& rotations() const { return rotations_; }
+
+ private:
+  void add_element_forces(Index e, const Nodes& x, Nodes& f) const;
+  void add_element_stiffness(Index e, double scale, BlockSparseMatrix& A) const;
+
+  std::vector<Mat3> rotations_;
+  std::vector<Eigen::Quaterniond> warm_start_;  // previous rotation, to start the iteration from
+};
+
+}  // namespace corotate

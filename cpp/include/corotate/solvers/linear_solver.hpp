@@ -1,0 +1,24 @@
+// Interface of the solvers for the symmetric positive definite systems of a step.
+#pragma once
+
+#include "corotate/sparse/block_sparse_matrix.hpp"
+
+namespace corotate {
+
+struct SolveStats {
+  int iterations = 0;              // CG iterations (0 for a direct solve)
+  double relative_residual = 0.0;  // |b - A x| / |b| at exit
+  bool converged = true;           // tolerance met (a capped CG may stop before)
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  // Forget everything cached about earlier systems (pattern, constraints or dt changed).
+  virtual void reset() = 0;
+  // Solve A x = b. x holds the initial guess on entry (used by warm-started iterative
+  // solvers) and the solution on exit.
+  virtual SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) = 0;
+};
+
+}  // namespace corotate

@@ -1,0 +1,32 @@
+// Preconditioned conjugate gradients with an iteration cap (paper 2.2): each iteration is
+// one matrix-vector product, so capping the iterations trades accuracy for a bounded cost.
+#pragma once
+
+#include <memory>
+
+#include "corotate/solvers/linear_solver.hpp"
+#include "corotate/solvers/preconditioner.hpp"
+
+namespace corotate {
+
+struct PCGSettings {
+  int max_iterations = 20;   // cap; the solve stops there even when not converged
+  double tolerance = 1e-6;   // relative residual |b - A x| / |b|
+  bool warm_start = true;    // start from the x passed in (e.g. the previous step's answer)
+  PreconditionerKind preconditioner = PreconditionerKind::BlockJacobi;
+};
+
+class PCG final : public LinearSolver {
+ public:
+  explicit PCG(const PCGSettings& settings = {});
+  const PCGSettings& settings() const { return settings_; }
+  void reset() override { preconditioner_->reset(); }
+  SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
+
+ private:
+  PCGSettings settings_;
+  std::unique_ptr<Preconditioner> preconditioner_;
+  Vec r_, z_, p_, q_;  // work vectors, sized on first use
+};
+
+}  // namespace corotate

@@ -1,0 +1,60 @@
+// Symmetric sparse matrix stored as 3x3 blocks (one block per pair of coupled nodes).
+//
+// The pattern is built once from the element connectivity; both triangles are stored so a
+// matrix-vector product is a plain row sweep. Each element keeps the indices of its blocks
+// (see block_index), so assembly is a scatter-add with no search and no allocation.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "corotate/common.hpp"
+
+namespace corotate {
+
+class BlockSparseMatrix {
+ public:
+  using Block = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
+  using ConstBlock = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
+
+  BlockSparseMatrix() = default;
+
+  // Pattern coupling every pair of nodes that share a cell. cells: m x k node indices.
+  static BlockSparseMatrix from_cells(Index num_nodes, const Connectivity& cells);
+  // Pattern from an explicit list of coupled node pairs (i, j); the diagonal is always present.
+  static BlockSparseMatrix from_pairs(Index num_nodes, const std::vector<std::pair<int, int>>& pairs);
+
+  Index num_nodes() const { return static_cast<Index>(row_start_.size()) - 1; }
+  Index num_dofs() const { return 3 * num_nodes(); }
+  Index num_blocks() const { return static_cast<Index>(columns_.size()); }
+
+  // Index of block (i, j) in the value array; -1 if not in the pattern. O(log row length):
+  // meant for precomputation only.
+  int block_index(Index i, Index j) const;
+  int diagonal_block(Index i) const { return diagonal_[i]; }
+
+  Block block(int k) { return Block(values_.data() + 9 * k); }
+  ConstBlock block(int k) const { return ConstBlock(values_.data() + 9 * k); }
+  std::vector<double>& values() { return values_; }
+  const std::vector<double>& values() const { return values_; }
+  const std::vector<int>& row_start() const { return row_start_; }
+  const std::vector<int>& columns() const { return columns_; }
+
+  void set_zero();
+  // this = a * other (same pattern); no allocation.
+  void assign_scaled(double a, const BlockSparseMatrix& other);
+  // y = A x (x, y: num_dofs()).
+  void multiply(const Vec& x, Vec& y) const;
+
+  // Scalar CSR copy (symmetric, so it is also the CSC form) for direct solvers.
+  // The pattern is built by the first call; later calls only copy values.
+  void copy_to(Eigen::SparseMatrix<double, Eigen::ColMajor, int>& out) const;
+
+ private:
+  std::vector<int> row_start_;  // num_nodes + 1
+  std::vector<int> columns_;    // block column of each block, sorted within a row
+  std::vector<int> diagonal_;   // block index of (i, i)
+  std::vector<double> values_;  // 9 per block, row-major inside the block
+};
+
+}  // namespace corotate

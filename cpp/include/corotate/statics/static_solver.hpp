@@ -1,0 +1,38 @@
+// Static equilibrium f_int(x) + load = 0 on the free DOFs, by Newton iterations with load
+// stepping: the load is applied in equal increments, each solved to the tolerance before
+// the next. Each iteration solves K(x) dx = f_int(x) + lambda * load with fixed DOFs held.
+//
+// For LinearFEM one iteration is exact. For CorotationalFEM the tangent is R K_e R^T without
+// the derivative of the rotations, so iterations converge linearly rather than quadratically;
+// load steps keep every increment inside the region where that converges.
+#pragma once
+
+#include <vector>
+
+#include "corotate/fem/fixed_dofs.hpp"
+#include "corotate/models/force_model.hpp"
+#include "corotate/solvers/linear_solver.hpp"
+
+namespace corotate {
+
+struct StaticSettings {
+  int load_steps = 1;          // equal load increments
+  double tolerance = 1e-8;     // |residual| <= tolerance * |load| on the free DOFs
+  int max_iterations = 100;    // per load step
+  void validate() const;
+};
+
+struct StaticResult {
+  // residual norm (relative to the load) before each iteration, one list per load step
+  std::vector<std::vector<double>> residual_history;
+  int total_iterations = 0;
+};
+
+// x: 3 x n positions, start of the iteration on entry and equilibrium on exit; fixed DOFs
+// keep their values in x (prescribed displacements). load: 3 x n external nodal forces.
+// Throws SolverFailure (with the residuals) when a load step does not converge; x is then
+// left at the last iterate, so callers that need the old state must keep a copy.
+StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const FixedDofs& fixed,
+                          const StaticSettings& settings, LinearSolver& solver);
+
+}  // namespace corotate

@@ -1,0 +1,47 @@
+#include "corotate/material.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace corotate {
+
+Index first_non_finite_node(const Nodes& x) {
+  for (Index j = 0; j < x.cols(); ++j)
+    if (!x.col(j).allFinite()) return j;
+  return -1;
+}
+
+void Material::validate() const {
+  auto fail = [](const std::string& what) { throw InvalidInput(what); };
+  std::ostringstream msg;
+  if (!std::isfinite(youngs_modulus) || youngs_modulus <= 0) {
+    msg << "Young's modulus must be positive and finite, got E = " << youngs_modulus;
+    fail(msg.str());
+  }
+  if (!std::isfinite(poisson_ratio) || poisson_ratio >= 0.5 || poisson_ratio <= -1.0) {
+    msg << "Poisson ratio must lie in (-1, 0.5), got nu = " << poisson_ratio;
+    if (poisson_ratio >= 0.5) msg << " (nu >= 0.5 makes the material incompressible, which this compressible model cannot represent)";
+    fail(msg.str());
+  }
+  if (!std::isfinite(density) || density <= 0) {
+    msg << "density must be positive and finite, got rho = " << density;
+    fail(msg.str());
+  }
+}
+
+double Material::lame_lambda() const {
+  return youngs_modulus * poisson_ratio / ((1 + poisson_ratio) * (1 - 2 * poisson_ratio));
+}
+
+double Material::lame_mu() const { return youngs_modulus / (2 * (1 + poisson_ratio)); }
+
+Eigen::Matrix<double, 6, 6> Material::elasticity_matrix() const {
+  const double lambda = lame_lambda(), mu = lame_mu();
+  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+  H.topLeftCorner<3, 3>().setConstant(lambda);
+  H.topLeftCorner<3, 3>().diagonal().array() += 2 * mu;
+  H.bottomRightCorner<3, 3>().diagonal().setConstant(mu);
+  return H;
+}
+
+}  // namespace corotate

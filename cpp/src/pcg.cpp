@@ -1,0 +1,51 @@
+#include "corotate/solvers/pcg.hpp"
+
+#include <cmath>
+
+namespace corotate {
+
+PCG::PCG(const PCGSettings& settings) : settings_(settings), preconditioner_(make_preconditioner(settings.preconditioner)) {
+  if (settings.max_iterations < 1) throw InvalidInput("PCG: max_iterations must be at least 1");
+  if (!(settings.tolerance > 0) || !std::isfinite(settings.tolerance)) throw InvalidInput("PCG: tolerance must be positive");
+}
+
+SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
+  const Index n = b.size();
+  r_.resize(n); z_.resize(n); p_.resize(n); q_.resize(n);
+  if (!settings_.warm_start || x.size() != n) x.setZero(n);
+  preconditioner_->compute(A);
+
+  const double b_norm = b.norm();
+  if (b_norm == 0) {
+    x.setZero();
+    return {0, 0.0, true};
+  }
+  const double target = settings_.tolerance * b_norm;
+  A.multiply(x, r_);
+  r_ = b - r_;
+  double r_norm = r_.norm();
+  if (r_norm <= target) return {0, r_norm / b_norm, true};
+
+  preconditioner_->apply(r_, z_);
+  p_ = z_;
+  double rz = r_.dot(z_);
+  int it = 0;
+  while (it < settings_.max_iterations) {
+    A.multiply(p_, q_);
+    const double pq = p_.dot(q_);
+    if (!(pq > 0)) throw SolverFailure("PCG: the system matrix is not positive definite (p^T A p = " + std::to_string(pq) + ")");
+    const double alpha = rz / pq;
+    x.noalias() += alpha * p_;
+    r_.noalias() -= alpha * q_;
+    ++it;
+    r_norm = r_.norm();
+    if (r_norm <= target) break;
+    preconditioner_->apply(r_, z_);
+    const double rz_new = r_.dot(z_);
+    p_ = z_ + (rz_new / rz) * p_;
+    rz = rz_new;
+  }
+  return {it, r_norm / b_norm, r_norm <= target};
+}
+
+}  // namespace corotate

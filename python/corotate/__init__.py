@@ -1,0 +1,22 @@
+"""corotate: fast simulation of large deformations of elastic solids.
+
+Co-rotational and linear FEM on tet, hex and quadratic hex meshes, stepped implicitly
+frame by frame from Python by a C++ core.
+
+    import corotate as cr
+    mesh = cr.beam(5.0, 1.0, 1.0, cells=(20, 4, 4))
+    body = cr.Body(mesh, cr.Material(E=1e7, nu=0.3, density=1000))
+    sim = cr.Simulation(body, dt=0.01, gravity=(0, 0, -9.81))
+    sim.fix(mesh.nodes_on_plane("x", 0.0))
+    sim.step(5)
+"""
+from .mesh import Mesh, beam, box, read_mesh, write_mesh
+from .output import TimeSeriesWriter
+from .material import Material
+from .body import Body
+from .solvers import PCG, Direct
+from .simulation import Simulation
+
+__all__ = ["Mesh", "beam", "box", "read_mesh", "write_mesh", "TimeSeriesWriter", "Material", "Body", "PCG",
+           "Direct", "Simulation"]
+__version__ = "0.1.0"

@@ -1,0 +1,605 @@
+"""Volume meshes for corotate: the :class:`Mesh` container, file I/O and
+structured-grid generators.
+
+Everything here is pure NumPy; meshio is imported only when a file is read or
+written, so generating meshes works without it.
+
+Conventions
+-----------
+* ``points``  (n, 3) float64 rest positions, C-contiguous.
+* ``cells``   (m, k) int64 node indices, C-contiguous, 0-based.
+* ``cell_type`` is a meshio/VTK name, and node order within a cell follows VTK:
+
+  - ``"tetra"`` (k = 4): nodes 0, 1, 2 form a triangle whose right-hand normal
+    points towards node 3, which makes the signed volume positive.
+  - ``"hexahedron"`` (k = 8): 0:(-,-,-) 1:(+,-,-) 2:(+,+,-) 3:(-,+,-), then
+    4..7 the same at +z.
+  - ``"hexahedron20"`` (k = 20): corners 0-7 as for the hexahedron, then the
+    edge mid-nodes 8:(0,1) 9:(1,2) 10:(2,3) 11:(3,0) 12:(4,5) 13:(5,6)
+    14:(6,7) 15:(7,4) 16:(0,4) 17:(1,5) 18:(2,6) 19:(3,7).
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "SUPPORTED_CELL_TYPES",
+    "Mesh",
+    "read_mesh",
+    "write_mesh",
+    "box",
+    "beam",
+]
+
+#: Node count per cell for each supported meshio/VTK cell type.
+SUPPORTED_CELL_TYPES = {"tetra": 4, "hexahedron": 8, "hexahedron20": 20}
+
+# Generator element names -> meshio cell types.
+_ELEMENTS = {"tet4": "tetra", "hex8": "hexahedron", "hex20": "hexahedron20"}
+
+# Node permutation that mirrors a cell (turns its signed volume around) while
+# keeping it the same element: swap nodes 1 and 2 of a tet; swap the bottom and
+# top faces of a hex (for hex20 the bottom/top edge mid-nodes follow, and the
+# vertical edges keep their mid-nodes).
+_FLIP = {
+    "tetra": np.array([0, 2, 1, 3]),
+    "hexahedron": np.array([4, 5, 6, 7, 0, 1, 2, 3]),
+    "hexahedron20": np.array(
+        [4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19]
+    ),
+}
+
+# Unit-cube corner offsets in VTK hexahedron order.
+_HEX_CORNERS = np.array(
+    [
+        [0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+        [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1],
+    ],
+    dtype=np.int64,
+)
+
+# The hexahedron20 edges (pairs of corners) in VTK mid-node order 8..19.
+_HEX20_EDGES = np.array(
+    [
+        [0, 1], [1, 2], [2, 3], [3, 0],
+        [4, 5], [5, 6], [6, 7], [7, 4],
+        [0, 4], [1, 5], [2, 6], [3, 7],
+    ],
+    dtype=np.int64,
+)
+
+
+def _supported_list() -> str:
+    return ", ".join(SUPPORTED_CELL_TYPES)
+
+
+# --------------------------------------------------------------------------
+# Mesh
+# --------------------------------------------------------------------------
+
+
+class Mesh:
+    """A volume mesh with a single element type.
+
+    Parameters
+    ----------
+    points     (n, 3) float-like rest positions; stored as a C-contiguous
+               float64 copy.
+    cells      (m, k) integer node indices (0-based); stored as a C-contiguous
+               int64 copy. k must match ``cell_type``.
+    cell_type  "tetra", "hexahedron" or "hexahedron20" (VTK node orderings,
+               see the module docstring).
+
+    Attributes
+    ----------
+    points     (n, 3) float64
+    cells      (m, k) int64
+    cell_type  str
+
+    Raises
+    ------
+    ValueError  if the cell type is unsupported, a shape is wrong, a point is
+                not finite or a node index is out of range; the message names
+                the offending node / cell.
+    """
+
+    def __init__(self, points, cells, cell_type: str = "tetra"):
+        self.cell_type = _check_cell_type(cell_type)
+        self.points = _check_points(points)
+        self.cells = _check_cells(cells, self.cell_type, len(self.points))
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of nodes n."""
+        return int(self.points.shape[0])
+
+    @property
+    def n_cells(self) -> int:
+        """Number of cells m."""
+        return int(self.cells.shape[0])
+
+    def __repr__(self) -> str:
+        return (
+            f"Mesh(n_nodes={self.n_nodes}, n_cells={self.n_cells}, "
+            f"cell_type={self.cell_type!r})"
+        )
+
+    # -- node selection ---------------------------------------------------
+
+    def nodes_where(self, predicate) -> np.ndarray:
+        """Indices of the nodes for which ``predicate`` holds.
+
+        predicate  callable taking points (n, 3) float64 (a read-only view)
+                   and returning a bool mask (n,)
+        returns    (j,) int64 ascending node indices
+        """
+        view = self.points.view()
+        view.flags.writeable = False  # the predicate must not move the mesh
+        mask = np.asarray(predicate(view))
+        if mask.shape != (self.n_nodes,):
+            raise ValueError(
+                f"predicate must return a mask of shape ({self.n_nodes},), "
+                f"got shape {mask.shape}"
+            )
+        if mask.dtype != np.bool_:
+            raise ValueError(
+                f"predicate must return a bool mask, got dtype {mask.dtype}"
+            )
+        return np.flatnonzero(mask).astype(np.int64)
+
+    def nodes_on_plane(self, axis, value: float, tol: float = 1e-9) -> np.ndarray:
+        """Indices of the nodes with ``|points[:, axis] - value| <= tol``.
+
+        axis     0, 1, 2 or "x", "y", "z"
+        value    plane coordinate along ``axis``
+        tol      absolute tolerance (same units as the points)
+        returns  (j,) int64 ascending node indices
+        """
+        a = _axis_index(axis)
+        return self.nodes_where(lambda p: np.abs(p[:, a] - value) <= tol)
+
+    def nodes_in_box(self, lower, upper) -> np.ndarray:
+        """Indices of the nodes inside the closed axis-aligned box.
+
+        lower    (3,) minimum corner
+        upper    (3,) maximum corner, ``upper >= lower`` component-wise
+        returns  (j,) int64 ascending node indices
+        """
+        lo = _as_vec3(lower, "lower")
+        hi = _as_vec3(upper, "upper")
+        if np.any(hi < lo):
+            raise ValueError(f"box upper {hi.tolist()} is below lower {lo.tolist()}")
+        return self.nodes_where(lambda p: np.all((p >= lo) & (p <= hi), axis=1))
+
+    def nearest_node(self, point) -> int:
+        """Index of the node closest to ``point``.
+
+        point    (3,) query position
+        returns  int node index (the lowest one on ties)
+        """
+        if self.n_nodes == 0:
+            raise ValueError("nearest_node on a mesh without nodes")
+        q = _as_vec3(point, "point")
+        d2 = np.sum((self.points - q) ** 2, axis=1)
+        return int(np.argmin(d2))
+
+    # -- geometry ---------------------------------------------------------
+
+    def cell_volumes(self) -> np.ndarray:
+        """Signed volume of every cell.
+
+        returns  (m,) float64; positive for cells in VTK orientation.
+
+        Tets are exact. Hexahedra use 2x2x2 Gauss quadrature of det J of the
+        trilinear corner map, which is exact for that map (det J has degree
+        <= 2 in each reference coordinate). hexahedron20 cells use their
+        corner nodes only, so curved edges are ignored.
+        """
+        x = self.points[self.cells]  # (m, k, 3)
+        if self.cell_type == "tetra":
+            return _tet_volumes(x)
+        return _hex_volumes(x[:, :8, :])
+
+
+def _check_cell_type(cell_type) -> str:
+    if not isinstance(cell_type, str) or cell_type not in SUPPORTED_CELL_TYPES:
+        raise ValueError(
+            f"unsupported cell type {cell_type!r}; supported: {_supported_list()}"
+        )
+    return cell_type
+
+
+def _check_points(points) -> np.ndarray:
+    p = np.array(points, dtype=np.float64, order="C", copy=True)
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise ValueError(f"points must have shape (n, 3), got {p.shape}")
+    bad = ~np.isfinite(p)
+    if bad.any():
+        node, coord = np.argwhere(bad)[0]
+        kind = "NaN" if np.isnan(p[node, coord]) else "inf"
+        raise ValueError(
+            f"points contain {kind} at node {node} "
+            f"({int(bad.any(axis=1).sum())} non-finite node(s) in total)"
+        )
+    return p
+
+
+def _check_cells(cells, cell_type: str, n_nodes: int) -> np.ndarray:
+    k = SUPPORTED_CELL_TYPES[cell_type]
+    c = np.asarray(cells)
+    if c.size == 0:
+        # An empty list has no dtype or shape worth checking.
+        c = np.zeros((0, k), dtype=np.int64)
+    if c.dtype.kind not in "iu":
+        raise ValueError(f"cells must hold integer node indices, got dtype {c.dtype}")
+    if c.ndim != 2 or c.shape[1] != k:
+        raise ValueError(
+            f"cells of type {cell_type!r} must have shape (m, {k}), got {c.shape}"
+        )
+    c = np.array(c, dtype=np.int64, order="C", copy=True)
+    bad = (c < 0) | (c >= n_nodes)
+    if bad.any():
+        cell, local = np.argwhere(bad)[0]
+        raise ValueError(
+            f"cell {cell} has node index {c[cell, local]} out of range "
+            f"[0, {n_nodes}) ({int(bad.any(axis=1).sum())} bad cell(s) in total)"
+        )
+    return c
+
+
+def _axis_index(axis) -> int:
+    names = {"x": 0, "y": 1, "z": 2}
+    if isinstance(axis, str) and axis.lower() in names:
+        return names[axis.lower()]
+    if isinstance(axis, (int, np.integer)) and not isinstance(axis, bool) and 0 <= axis <= 2:
+        return int(axis)
+    raise ValueError(f"axis must be 0, 1, 2, 'x', 'y' or 'z', got {axis!r}")
+
+
+def _as_vec3(v, name: str) -> np.ndarray:
+    a = np.asarray(v, dtype=np.float64)
+    if a.shape != (3,):
+        raise ValueError(f"{name} must have shape (3,), got {a.shape}")
+    return a
+
+
+def _tet_volumes(x: np.ndarray) -> np.ndarray:
+    """Signed tet volumes. x  (m, 4, 3) corner positions -> (m,)."""
+    e = x[:, 1:, :] - x[:, :1, :]  # edges from node 0, rows = edge vectors
+    return np.linalg.det(e) / 6.0
+
+
+def _hex_gauss_derivatives() -> np.ndarray:
+    """Trilinear shape-function gradients at the 2x2x2 Gauss points.
+
+    returns  (8, 8, 3): [gauss point, corner, d/d(xi, eta, zeta)], reference
+             cube [-1, 1]^3, corners in VTK order.
+    """
+    s = 2 * _HEX_CORNERS - 1  # corner signs in {-1, +1}
+    g = 1.0 / np.sqrt(3.0)
+    gp = np.array(list(itertools.product((-g, g), repeat=3)))  # (8, 3)
+    # N_a = prod_d (1 + s_ad * xi_d) / 8; dN_a/dxi_j keeps s_aj, drops factor j.
+    factors = 1.0 + gp[:, None, :] * s[None, :, :]  # (gp, corner, 3)
+    dn = np.empty((8, 8, 3))
+    for j in range(3):
+        others = [d for d in range(3) if d != j]
+        dn[:, :, j] = s[None, :, j] * np.prod(factors[:, :, others], axis=2) / 8.0
+    return dn
+
+
+_HEX_DN = _hex_gauss_derivatives()
+
+
+def _hex_volumes(x: np.ndarray) -> np.ndarray:
+    """Signed trilinear hex volumes. x  (m, 8, 3) VTK-ordered corners -> (m,)."""
+    # J[c, g, i, j] = sum_a x[c, a, i] * dN[g, a, j]; all Gauss weights are 1.
+    jac = np.einsum("cai,gaj->cgij", x, _HEX_DN)
+    return np.linalg.det(jac).sum(axis=1)
+
+
+# --------------------------------------------------------------------------
+# Reading and writing
+# --------------------------------------------------------------------------
+
+
+def _meshio():
+    try:
+        import meshio
+    except ImportError as e:  # pragma: no cover - depends on the environment
+        raise ImportError("reading/writing mesh files needs meshio: pip install meshio") from e
+    return meshio
+
+
+def read_mesh(path, remove_unused_nodes: bool = True) -> Mesh:
+    """Read a volume mesh from a file.
+
+    path  any format meshio reads (.vtu, .vtk, .msh, .xdmf, ...), or a TetGen
+          pair given as either ``name.node`` or ``name.ele`` (both must exist;
+          0- or 1-based as the .node file's first index says).
+    remove_unused_nodes
+          drop nodes no cell refers to (they would have no mass and no
+          stiffness) and renumber the rest, keeping their order; a warning
+          says how many were dropped.
+    returns  Mesh with one of the supported cell types.
+
+    Cells with negative signed volume are mirrored into VTK orientation (for
+    tets: nodes 1 and 2 swapped) with a warning giving their count.
+
+    Raises
+    ------
+    FileNotFoundError  if a file is missing (the message has the path).
+    ValueError  if the file cannot be parsed, holds no supported volume cells
+                (the message lists the types found and the supported ones), or
+                holds several supported volume types (one type per body).
+    """
+    path = Path(os.fspath(path))
+    if path.suffix.lower() in (".node", ".ele"):
+        points, cells, cell_type = _read_tetgen(path)
+    else:
+        points, cells, cell_type = _read_meshio(path)
+    mesh = Mesh(points, cells, cell_type)  # validates before any renumbering
+    if remove_unused_nodes:
+        mesh = _drop_unused_nodes(mesh, path)
+    _fix_orientation(mesh, path)
+    return mesh
+
+
+def _read_meshio(path: Path):
+    """Return (points, cells, cell_type) of the one volume type in a file."""
+    if not path.is_file():
+        raise FileNotFoundError(f"mesh file not found: {path}")
+    meshio = _meshio()
+    try:
+        m = meshio.read(path)
+    except meshio.ReadError as e:
+        raise ValueError(f"could not read mesh file {path}: {e}") from e
+    found = [block.type for block in m.cells]
+    volume_types = sorted({t for t in found if t in SUPPORTED_CELL_TYPES})
+    if not volume_types:
+        raise ValueError(
+            f"{path} has no supported volume cells; found cell types "
+            f"{sorted(set(found))}, supported: {_supported_list()}"
+        )
+    if len(volume_types) > 1:
+        raise ValueError(
+            f"{path} mixes volume cell types {volume_types}; corotate needs "
+            "one element type per body (split the file or convert the mesh)"
+        )
+    cell_type = volume_types[0]
+    # Formats such as Gmsh split cells into one block per physical group.
+    blocks = [b.data for b in m.cells if b.type == cell_type]
+    return m.points, np.concatenate(blocks, axis=0), cell_type
+
+
+def _tetgen_rows(path: Path, kind: str):
+    """Header and data rows of a TetGen file, comments and blanks removed."""
+    if not path.is_file():
+        raise FileNotFoundError(f"TetGen {kind} file not found: {path}")
+    rows = []
+    with open(path) as f:
+        for line in f:
+            tokens = line.split("#", 1)[0].split()
+            if tokens:
+                rows.append(tokens)
+    if not rows:
+        raise ValueError(f"TetGen {kind} file {path} is empty")
+    header, body = rows[0], rows[1:]
+    try:
+        count = int(header[0])
+    except ValueError:
+        raise ValueError(f"bad header in {path}: {' '.join(header)!r}") from None
+    if len(body) < count:
+        raise ValueError(f"{path} announces {count} entries but has {len(body)}")
+    return header, body[:count]
+
+
+def _parse_table(rows, ncols: int, dtype, path: Path) -> np.ndarray:
+    """The first ncols columns of rows as an array, with a clear error."""
+    for i, r in enumerate(rows):
+        if len(r) < ncols:
+            raise ValueError(f"{path}: entry {i} has {len(r)} values, expected >= {ncols}")
+    try:
+        return np.array([r[:ncols] for r in rows], dtype=dtype)
+    except ValueError as e:
+        raise ValueError(f"{path}: could not parse numbers ({e})") from None
+
+
+def _read_tetgen(path: Path):
+    """Return (points, cells, "tetra") from a TetGen .node/.ele pair."""
+    node_path, ele_path = path.with_suffix(".node"), path.with_suffix(".ele")
+    header, rows = _tetgen_rows(node_path, ".node")
+    if len(header) > 1 and int(header[1]) != 3:
+        raise ValueError(f"{node_path} has dimension {header[1]}, expected 3")
+    table = _parse_table(rows, 4, np.float64, node_path)
+    ids = table[:, 0].astype(np.int64)
+    # TetGen numbers from 0 or 1 (the -z switch); the first node tells which.
+    base = int(ids[0]) if len(ids) else 0
+    if base not in (0, 1) or np.any(ids != base + np.arange(len(ids))):
+        raise ValueError(
+            f"{node_path}: node numbers must run consecutively from 0 or 1"
+        )
+    points = table[:, 1:4]
+
+    header, rows = _tetgen_rows(ele_path, ".ele")
+    per_tet = int(header[1]) if len(header) > 1 else 4
+    if per_tet != 4:
+        raise ValueError(
+            f"{ele_path} has {per_tet}-node tets; only 4-node tets are "
+            f"supported (supported cell types: {_supported_list()})"
+        )
+    cells = _parse_table(rows, 5, np.int64, ele_path)[:, 1:5] - base
+    return points, cells, "tetra"
+
+
+def _drop_unused_nodes(mesh: Mesh, path) -> Mesh:
+    """Mesh without the nodes no cell uses (others keep their order)."""
+    used = np.zeros(mesh.n_nodes, dtype=bool)
+    used[mesh.cells] = True
+    n_unused = int((~used).sum())
+    if n_unused == 0:
+        return mesh
+    new_index = np.cumsum(used) - 1
+    warnings.warn(
+        f"{path}: removed {n_unused} node(s) not used by any cell; "
+        "remaining nodes were renumbered in their original order",
+        stacklevel=3,
+    )
+    return Mesh(mesh.points[used], new_index[mesh.cells], mesh.cell_type)
+
+
+def _fix_orientation(mesh: Mesh, path) -> None:
+    """Mirror negatively oriented cells in place, warning with their count."""
+    negative = mesh.cell_volumes() < 0
+    n_neg = int(negative.sum())
+    if n_neg == 0:
+        return
+    mesh.cells[negative] = mesh.cells[negative][:, _FLIP[mesh.cell_type]]
+    what = "nodes 1 and 2 swapped" if mesh.cell_type == "tetra" else "top and bottom faces swapped"
+    warnings.warn(
+        f"{path}: reordered {n_neg} of {mesh.n_cells} {mesh.cell_type} cell(s) "
+        f"with negative volume ({what})",
+        stacklevel=3,
+    )
+
+
+def write_mesh(path, mesh: Mesh, point_data=None) -> None:
+    """Write a mesh with meshio (format from the file extension).
+
+    path        output file, e.g. "out.vtu"
+    mesh        Mesh
+    point_data  optional dict name -> (n,) or (n, k) array, one row per node
+    """
+    meshio = _meshio()
+    data = _check_point_data(point_data, mesh.n_nodes)
+    out = meshio.Mesh(mesh.points, [(mesh.cell_type, mesh.cells)], point_data=data)
+    meshio.write(os.fspath(path), out)
+
+
+def _check_point_data(point_data, n_nodes: int) -> dict:
+    """Validate a name -> (n, ...) array dict; returns float/ints as arrays."""
+    out = {}
+    for name, values in (point_data or {}).items():
+        a = np.asarray(values)
+        if a.ndim == 0 or a.shape[0] != n_nodes:
+            raise ValueError(
+                f"point_data[{name!r}] must have one row per node ({n_nodes}), "
+                f"got shape {a.shape}"
+            )
+        out[str(name)] = a
+    return out
+
+
+# --------------------------------------------------------------------------
+# Structured generators
+# --------------------------------------------------------------------------
+
+
+def box(size=(1.0, 1.0, 1.0), cells=(1, 1, 1), element: str = "tet4", origin=(0.0, 0.0, 0.0)) -> Mesh:
+    """A structured mesh of an axis-aligned box.
+
+    size     (3,) edge lengths (lx, ly, lz), all > 0
+    cells    (3,) number of cuboids (nx, ny, nz) along each axis, all >= 1
+    element  "tet4": each cuboid cut into 6 tets sharing its diagonal from the
+                     (min, min, min) to the (max, max, max) corner (Kuhn /
+                     Freudenthal split, conforming across cuboids);
+             "hex8": one "hexahedron" per cuboid;
+             "hex20": one "hexahedron20" per cuboid, edge mid-nodes shared
+                     with the neighbouring cells.
+    origin   (3,) the box's minimum corner
+    returns  Mesh; nodes numbered x-major with z fastest (hex20: corner and
+             mid-nodes interleaved on the half-step grid in the same order),
+             so a slab of constant x holds consecutive indices.
+    """
+    if element not in _ELEMENTS:
+        raise ValueError(
+            f"unknown element {element!r}; choose one of {', '.join(_ELEMENTS)}"
+        )
+    lengths = _as_vec3(size, "size")
+    if not np.all(np.isfinite(lengths) & (lengths > 0)):
+        raise ValueError(f"size must be finite and positive, got {lengths.tolist()}")
+    counts = _cell_counts(cells)
+    start = _as_vec3(origin, "origin")
+    if not np.all(np.isfinite(start)):
+        raise ValueError(f"origin must be finite, got {start.tolist()}")
+
+    # hex20 needs nodes at half steps; build the grid at that resolution and
+    # keep only corners and edge mid-points.
+    sub = 2 if element == "hex20" else 1
+    axes = [np.linspace(start[d], start[d] + lengths[d], sub * counts[d] + 1) for d in range(3)]
+    shape = tuple(sub * counts + 1)
+    keep = _grid_node_mask(shape, element)
+    node_id = np.full(shape, -1, dtype=np.int64)
+    node_id[keep] = np.arange(int(keep.sum()))
+    ijk = np.argwhere(keep)  # C order = z fastest, matching node_id
+    points = np.column_stack([axes[d][ijk[:, d]] for d in range(3)])
+
+    local = _local_offsets(element)  # (cells per cuboid, k, 3) in half-steps if sub=2
+    base = sub * np.indices(tuple(counts)).reshape(3, -1).T  # (N, 3) cuboid corners
+    idx = base[:, None, None, :] + local[None, :, :, :]  # (N, c, k, 3)
+    conn = node_id[idx[..., 0], idx[..., 1], idx[..., 2]]
+    return Mesh(points, conn.reshape(-1, local.shape[1]), _ELEMENTS[element])
+
+
+def beam(length: float = 5.0, width: float = 1.0, height: float = 1.0, cells=(10, 2, 2), element: str = "tet4") -> Mesh:
+    """A box from the origin: x in [0, length], y in [0, width], z in [0, height].
+
+    cells    (3,) cuboids along x, y, z
+    element  "tet4", "hex8" or "hex20" (see :func:`box`)
+    returns  Mesh
+    """
+    return box(size=(length, width, height), cells=cells, element=element, origin=(0.0, 0.0, 0.0))
+
+
+def _cell_counts(cells) -> np.ndarray:
+    c = np.asarray(cells)
+    if c.shape != (3,) or c.dtype.kind not in "iu" or np.any(c < 1):
+        raise ValueError(f"cells must be three integers >= 1, got {cells!r}")
+    return c.astype(np.int64)
+
+
+def _grid_node_mask(shape, element: str) -> np.ndarray:
+    """Which grid points become nodes: all of them, or for hex20 (half-step
+    grid) the corners and edge mid-points, i.e. at most one odd index."""
+    if element != "hex20":
+        return np.ones(shape, dtype=bool)
+    i, j, k = np.indices(shape)
+    return (i % 2 + j % 2 + k % 2) <= 1
+
+
+def _local_offsets(element: str) -> np.ndarray:
+    """Grid offsets of each element's nodes inside one cuboid.
+
+    returns  (c, k, 3) int64: c elements per cuboid, k nodes each; for hex20
+             the offsets are in half steps (corners at 0 or 2).
+    """
+    if element == "hex8":
+        return _HEX_CORNERS[None]
+    if element == "hex20":
+        corners = 2 * _HEX_CORNERS
+        mids = corners[_HEX20_EDGES].sum(axis=1) // 2
+        return np.concatenate([corners, mids])[None]
+    return _kuhn_tets()
+
+
+def _kuhn_tets() -> np.ndarray:
+    """The 6 Kuhn tets of the unit cube as corner offsets, positively oriented.
+
+    Each tet walks from (0,0,0) to (1,1,1) along the cube edges, one axis at a
+    time in the order of a permutation; all six share that diagonal.
+    returns  (6, 4, 3) int64
+    """
+    tets = []
+    for perm in itertools.permutations(range(3)):
+        steps = np.eye(3, dtype=np.int64)[list(perm)]
+        verts = np.vstack([np.zeros(3, dtype=np.int64), np.cumsum(steps, axis=0)])
+        # The volume sign is the permutation's parity; swap 1 and 2 if odd.
+        if np.linalg.det(verts[1:] - verts[0]) < 0:
+            verts = verts[[0, 2, 1, 3]]
+        tets.append(verts)
+    return np.array(tets)

@@ -1,0 +1,155 @@
+"""Stepping a body frame by frame: implicit co-rotational dynamics and static equilibrium."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from .body import Body
+from .solvers import PCG, Direct
+
+MASS_KINDS = ("consistent", "lumped")
+
+
+class Simulation:
+    """Implicit (linearised backward Euler) simulation of one body.
+
+    body       Body
+    dt         time step [s]
+    solver     PCG(...) (default PCG()) or Direct()
+    gravity    (3,) acceleration [m/s^2], default (0, 0, 0)
+    mass       "consistent" (default; the better choice for implicit steps) or "lumped"
+    rayleigh   (alpha, beta): damping C = alpha M + beta K, default (0, 0)
+
+    Each step solves (M + dt C + dt^2 K) dv = dt (f + f_ext) - (dt C + dt^2 K) v once, with
+    K the rotated stiffness at the start of the step (see cpp/.../implicit_euler.hpp).
+
+    positions, velocities and external_forces are (n, 3) float64 NumPy views of the state
+    held in C++: no copies. Write into them between steps to move fixed nodes or apply
+    loads (e.g. ``sim.external_forces[tip] = (0, 0, -10)``).
+    """
+
+    def __init__(self, body: Body, dt: float = 0.01, solver=None, gravity=(0.0, 0.0, 0.0),
+                 mass: str = "consistent", rayleigh=(0.0, 0.0)):
+        if not isinstance(body, Body):
+            raise TypeError("body must be a corotate.Body")
+        if mass not in MASS_KINDS:
+            raise ValueError(f"unknown mass {mass!r}; choose 'consistent' or 'lumped'")
+        solver = PCG() if solver is None else solver
+        if not isinstance(solver, (PCG, Direct)):
+            raise TypeError("solver must be corotate.PCG(...) or corotate.Direct()")
+        alpha, beta = (float(v) for v in rayleigh)
+        self.body = body
+        self.solver = solver
+        mesh = body.mesh
+        settings = _core.ImplicitEulerSettings(float(dt), alpha, beta, mass == "lumped")
+        kind, pcg = solver._args()
+        self._sim = _core.Simulation(body.model, mesh.cell_type, mesh.points, mesh.cells, body.material._core(),
+                                     settings, kind, pcg)
+        self.gravity = gravity
+
+    # --- state ----------------------------------------------------------------------
+    @property
+    def positions(self) -> np.ndarray:
+        """(n, 3) current node positions (a writable view)."""
+        return self._sim.positions
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """(n, 3) current node velocities (a writable view)."""
+        return self._sim.velocities
+
+    @property
+    def external_forces(self) -> np.ndarray:
+        """(n, 3) external nodal forces [N], kept between steps (a writable view)."""
+        return self._sim.external_forces
+
+    @property
+    def displacements(self) -> np.ndarray:
+        """(n, 3) positions minus rest positions (a new array)."""
+        return self.positions - self.body.mesh.points
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self._sim.time
+
+    @property
+    def dt(self) -> float:
+        return self._sim.settings.time_step
+
+    @property
+    def gravity(self) -> np.ndarray:
+        """(3,) gravitational acceleration [m/s^2]."""
+        return np.array(self._sim.gravity)
+
+    @gravity.setter
+    def gravity(self, g):
+        g = np.asarray(g, dtype=np.float64)
+        if g.shape != (3,):
+            raise ValueError("gravity must be a 3-vector")
+        self._sim.gravity = g
+
+    # --- constraints ------------------------------------------------------------------
+    def fix(self, nodes) -> None:
+        """Fix the given nodes (int indices or a boolean mask) in all three axes.
+
+        Replaces the previous fixed set. Fixed nodes keep the positions and velocities they
+        have; writing into ``positions`` between steps prescribes their motion."""
+        nodes = np.asarray(nodes)
+        if nodes.dtype == bool:
+            if nodes.shape != (self.body.n_nodes,):
+                raise ValueError("a boolean node mask needs one entry per node")
+            nodes = np.flatnonzero(nodes)
+        if nodes.size and not np.issubdtype(nodes.dtype, np.integer):
+            raise ValueError("node indices must be integers")
+        self._sim.fixed_nodes = [int(i) for i in nodes.ravel()]
+
+    def free(self) -> None:
+        """Release all fixed nodes."""
+        self._sim.fixed_nodes = []
+
+    @property
+    def fixed_nodes(self) -> np.ndarray:
+        return np.array(self._sim.fixed_nodes, dtype=np.int64)
+
+    # --- stepping ---------------------------------------------------------------------
+    def step(self, n: int = 1) -> None:
+        """Advance n time steps.
+
+        Raises ValueError for non-finite positions, velocities or forces and RuntimeError
+        when a step fails (non-finite result, solver breakdown); in both cases the state is
+        left exactly as it was before the call."""
+        self._sim.step(int(n))
+
+    def solve_static(self, load_steps: int = 1, tolerance: float = 1e-8, max_iterations: int = 100) -> dict:
+        """Move the body to static equilibrium under external forces and gravity.
+
+        Newton iterations with load_steps equal load increments (fixed nodes keep their
+        positions, so moving them first prescribes displacements). Velocities become zero.
+        Returns {"residual_history": [[...] per load step], "iterations": total}.
+        Raises RuntimeError with the residuals, and restores the state, if it does not
+        converge."""
+        return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations))
+
+    def internal_forces(self) -> np.ndarray:
+        """(n, 3) internal elastic forces at the current positions."""
+        return self._sim.internal_forces()
+
+    def energy(self) -> float:
+        """Elastic energy at the current positions."""
+        return self._sim.energy()
+
+    def kinetic_energy(self) -> float:
+        """1/2 v^T M v with the simulation's mass matrix kind."""
+        v = self.velocities.ravel()
+        return 0.5 * float(v @ (self.body.mass_matrix(self._sim.settings.lumped_mass) @ v))
+
+    @property
+    def stats(self) -> dict:
+        """Statistics: last step's CG iterations, residual, phase times [ms]; and over all
+        steps since reset_stats(): steps, iterations_per_step, ms_per_step,
+        simulated_time, wall_time [s] and real_time_ratio (simulated / wall time)."""
+        return self._sim.stats
+
+    def reset_stats(self) -> None:
+        self._sim.reset_stats()
