@@ -4,9 +4,45 @@
 
 namespace corotate {
 
+namespace {
+// Linear-tet kernels (see kTetKernel in the header).
+void add_tet_forces(const ElementSet<Tet4>& set, const Mat3& R, double lambda, double mu, Index e, const Nodes& x, Nodes& f) {
+  const auto& el = set.element(e);
+  const auto& G = el.centre_gradient;  // 4 x 3, constant on the tet
+  const int* nodes = &set.cells()(e, 0);
+  Mat3 F = Mat3::Zero();
+  for (int a = 0; a < 4; ++a) F.noalias() += x.col(nodes[a]) * G.row(a);
+  Mat3 strain = R.transpose() * F;  // sym(R^T F) - I is the unrotated small strain
+  strain = 0.5 * (strain + strain.transpose()).eval();
+  strain.diagonal().array() -= 1.0;
+  Mat3 stress = (2 * mu) * strain;
+  stress.diagonal().array() += lambda * strain.trace();
+  const Mat3 P = el.volume * R * stress;  // f_a = -P dN_a/dX
+  for (int a = 0; a < 4; ++a) f.col(nodes[a]).noalias() -= P * G.row(a).transpose();
+}
+
+void add_tet_stiffness(const ElementSet<Tet4>& set, const Mat3& R, double lambda, double mu, Index e, double scale,
+                       BlockSparseMatrix& A) {
+  const auto& el = set.element(e);
+  const Eigen::Matrix<double, 3, 4> a = R * el.centre_gradient.transpose();  // rotated gradients
+  const double v = scale * el.volume;
+  const int* ids = set.block_ids(e);
+  for (int i = 0; i < 4; ++i)
+    for (int j = i; j < 4; ++j) {
+      Mat3 block = (v * lambda) * a.col(i) * a.col(j).transpose() + (v * mu) * a.col(j) * a.col(i).transpose();
+      block.diagonal().array() += v * mu * a.col(i).dot(a.col(j));
+      A.block(ids[i * 4 + j]) += block;
+      if (j != i) A.block(ids[j * 4 + i]) += block.transpose();
+    }
+}
+
+}  // namespace
+
 template <class E>
 CorotationalFEM<E>::CorotationalFEM(const Nodes& rest, const Connectivity& cells, const Material& material)
     : FEModel<E>(rest, cells, material),
+      lambda_(material.lame_lambda()),
+      mu_(material.lame_mu()),
       rotations_(cells.rows(), Mat3::Identity()),
       warm_start_(cells.rows(), Eigen::Quaterniond::Identity()) {}
 
@@ -21,6 +57,10 @@ void CorotationalFEM<E>::update(const Nodes& x) {
 
 template <class E>
 void CorotationalFEM<E>::add_element_forces(Index e, const Nodes& x, Nodes& f) const {
+  if constexpr (kTetKernel) {
+    add_tet_forces(this->elements_, rotations_[e], lambda_, mu_, e, x, f);
+    return;
+  } else {
   constexpr int N = E::num_nodes;
   const auto& set = this->elements_;
   const Mat3& R = rotations_[e];
@@ -30,10 +70,15 @@ void CorotationalFEM<E>::add_element_forces(Index e, const Nodes& x, Nodes& f) c
       set.element(e).stiffness * Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(u.data());
   const Eigen::Matrix<double, 3, N> fe = R * Eigen::Map<const Eigen::Matrix<double, 3, N>>(ku.data());
   for (int a = 0; a < N; ++a) f.col(set.cells()(e, a)) -= fe.col(a);
+  }
 }
 
 template <class E>
 void CorotationalFEM<E>::add_element_stiffness(Index e, double scale, BlockSparseMatrix& A) const {
+  if constexpr (kTetKernel) {
+    add_tet_stiffness(this->elements_, rotations_[e], lambda_, mu_, e, scale, A);
+    return;
+  } else {
   constexpr int N = E::num_nodes;
   const auto& set = this->elements_;
   const Mat3 sR = scale * rotations_[e];
@@ -47,6 +92,7 @@ void CorotationalFEM<E>::add_element_stiffness(Index e, double scale, BlockSpars
       A.block(ids[a * N + b]) += block;
       if (b != a) A.block(ids[b * N + a]) += block.transpose();
     }
+  }
 }
 
 template <class E>
@@ -60,11 +106,11 @@ void CorotationalFEM<E>::add_stiffness(double scale, BlockSparseMatrix& A) const
 }
 
 template <class E>
-void CorotationalFEM<E>::add_forces_and_stiffness(const Nodes& x, Nodes& f, double scale,
-                                                  BlockSparseMatrix& A) const {
-  // One sweep: each element's K_e is read from memory once for both.
+void CorotationalFEM<E>::add_linearized_forces_and_stiffness(const Nodes& y, Nodes& f, double scale,
+                                                             BlockSparseMatrix& A) const {
+  // One sweep: each element's data is read from memory once for both.
   for (Index e = 0; e < this->elements_.num_elements(); ++e) {
-    add_element_forces(e, x, f);
+    add_element_forces(e, y, f);
     add_element_stiffness(e, scale, A);
   }
 }

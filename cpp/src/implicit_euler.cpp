@@ -24,6 +24,7 @@ ImplicitEuler::ImplicitEuler(ForceModel& model, const ImplicitEulerSettings& set
   system_ = model.pattern();
   const Index n = model.num_nodes();
   force_.resize(3, n);
+  y_.resize(3, n);
   rhs_.setZero(3 * n);
   dv_.setZero(3 * n);
   work_.setZero(3 * n);
@@ -42,13 +43,17 @@ StepStats ImplicitEuler::step(const Nodes& x, const Nodes& v, const Nodes& f_ext
   stats.rotation_ms = ms_since(t_start);
 
   const auto t_assembly = clock::now();
+  // b = dt (f(x) - (dt + beta) K v + f_ext) - dt alpha M v, where the first two terms are
+  // the linearised force at y = x + (dt + beta) v: no matrix-vector product needed.
   force_ = f_ext;
+  y_ = x + (dt + settings_.rayleigh_beta) * v;
   system_.assign_scaled(mass_coef, mass_);
-  model_.add_forces_and_stiffness(x, force_, stiffness_coef, system_);
-  // b = dt f - (A - M) v
-  system_.multiply(as_dofs(v), rhs_);
-  mass_.multiply(as_dofs(v), work_);
-  rhs_ = dt * as_dofs(force_) - rhs_ + work_;
+  model_.add_linearized_forces_and_stiffness(y_, force_, stiffness_coef, system_);
+  rhs_ = dt * as_dofs(force_);
+  if (settings_.rayleigh_alpha != 0) {
+    mass_.multiply(as_dofs(v), work_);
+    rhs_ -= (dt * settings_.rayleigh_alpha) * work_;
+  }
   fixed.project(system_);
   fixed.project(rhs_);
   stats.assembly_ms = ms_since(t_assembly);

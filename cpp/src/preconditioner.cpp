@@ -27,16 +27,6 @@ void BlockJacobiPreconditioner::apply(const Vec& r, Vec& z) {
   for (size_t i = 0; i < inverse_blocks_.size(); ++i) z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
 }
 
-void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
-  if (factored_) return;
-  A.copy_to(scalar_);
-  llt_.compute(scalar_);
-  if (llt_.info() != Eigen::Success) throw SolverFailure("reference-factor preconditioner: the reference system matrix is not positive definite");
-  factored_ = true;
-}
-
-void ReferenceFactorPreconditioner::apply(const Vec& r, Vec& z) { z = llt_.solve(r); }
-
 PreconditionerKind preconditioner_kind_from_name(const std::string& name) {
   if (name == "none") return PreconditionerKind::None;
   if (name == "jacobi") return PreconditionerKind::Jacobi;

@@ -23,7 +23,7 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
   // two or three iterations reach round-off. Where that Hessian is not positive definite
   // (far from the answer) the Mueller step is the safe choice.
   constexpr int max_iterations = 20;
-  constexpr double converged_step = 1e-8;  // the next step would be ~1e-16: round-off
+  constexpr double converged_step = 1e-6;  // quadratic: the remaining error is ~1e-12
   if (!F.allFinite()) return q.toRotationMatrix();
   const double scale = F.norm();
   if (!(scale > 0)) return q.toRotationMatrix();
@@ -32,20 +32,40 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
     const Mat3 R = q.toRotationMatrix();
     const Vec3 g = R.col(0).cross(A.col(0)) + R.col(1).cross(A.col(1)) + R.col(2).cross(A.col(2));
     const Mat3 B = A * R.transpose();
-    Mat3 H = -0.5 * (B + B.transpose());
-    H.diagonal().array() += B.trace();
-    Eigen::LLT<Mat3> llt(H);
-    Vec3 w = (llt.info() == Eigen::Success) ? Vec3(llt.solve(g)) : Vec3(g / (std::abs(B.trace()) + 1e-9));
+    const double trace = B.trace();
+    // H = tr(B) I - sym(B), solved by its adjugate when its leading minors say it is
+    // positive definite (a 3x3 LLT costs more and tells the same).
+    const double h00 = trace - B(0, 0), h11 = trace - B(1, 1), h22 = trace - B(2, 2);
+    const double h01 = -0.5 * (B(0, 1) + B(1, 0)), h02 = -0.5 * (B(0, 2) + B(2, 0)), h12 = -0.5 * (B(1, 2) + B(2, 1));
+    const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
+    const double det = h00 * c00 + h01 * c01 + h02 * c02;
+    Vec3 w;
+    if (h00 > 0 && h00 * h11 - h01 * h01 > 0 && det > 0) {
+      const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
+      w = Vec3(c00 * g.x() + c01 * g.y() + c02 * g.z(), c01 * g.x() + c11 * g.y() + c12 * g.z(),
+               c02 * g.x() + c12 * g.y() + c22 * g.z()) / det;
+    } else {
+      w = g / (std::abs(trace) + 1e-9);
+    }
     double angle = w.norm();
     if (!(angle < 1.0)) {  // trust region: at most one radian per iteration
       if (!std::isfinite(angle)) break;
       w /= angle;
       angle = 1.0;
     }
-    if (angle > 0) {
-      q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, w / angle)) * q;
-      q.normalize();
+    // q <- exp(w/2) q; for small angles the series avoids sin and cos (error < 1e-17).
+    double c, s_over_angle;
+    if (angle < 1e-3) {
+      const double a2 = angle * angle;
+      c = 1 - a2 / 8;
+      s_over_angle = 0.5 - a2 / 48;
+    } else {
+      c = std::cos(0.5 * angle);
+      s_over_angle = std::sin(0.5 * angle) / angle;
     }
+    const Eigen::Quaterniond dq(c, s_over_angle * w.x(), s_over_angle * w.y(), s_over_angle * w.z());
+    q = dq * q;
+    q.normalize();
     if (angle < converged_step) return q.toRotationMatrix();
   }
   const Mat3 R = polar_rotation_svd(F);

@@ -34,7 +34,7 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
       model.update(x);
       residual = lambda * load;
       K.set_zero();
-      model.add_forces_and_stiffness(x, residual, 1.0, K);
+      model.add_linearized_forces_and_stiffness(x, residual, 1.0, K);  // at y = x: f(x)
       r = as_dofs(residual);
       fixed.project(r);
       const double r_norm = r.norm();

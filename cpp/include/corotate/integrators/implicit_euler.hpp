@@ -54,6 +54,7 @@ class ImplicitEuler {
   BlockSparseMatrix mass_;    // M in the model's pattern
   BlockSparseMatrix system_;  // A, reassembled every step
   Nodes force_;               // f(x) + f_ext
+  Nodes y_;                   // x + (dt + beta) v
   Vec rhs_, dv_, work_;
 };
 

@@ -29,9 +29,13 @@ class ForceModel {
   virtual void add_forces(const Nodes& x, Nodes& f) const = 0;
   // A += scale * K, scattered into a matrix with pattern().
   virtual void add_stiffness(double scale, BlockSparseMatrix& A) const = 0;
-  // Both at once; models override this when one sweep over the elements is cheaper.
-  virtual void add_forces_and_stiffness(const Nodes& x, Nodes& f, double scale, BlockSparseMatrix& A) const {
-    add_forces(x, f);
+  // f += f(x) - K (y - x): the force linearised about the state of the last update,
+  // evaluated at y (3 x n). For the FE models here this is the force formula at y with the
+  // rotations of x held fixed, so an implicit step gets its -K v term at no extra cost.
+  virtual void add_linearized_forces(const Nodes& y, Nodes& f) const = 0;
+  // add_linearized_forces and add_stiffness in one sweep over the elements.
+  virtual void add_linearized_forces_and_stiffness(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix& A) const {
+    add_linearized_forces(y, f);
     add_stiffness(scale, A);
   }
   // Elastic energy at x (consistent with the forces of the model at its current state).

@@ -15,6 +15,7 @@ class LinearFEM final : public FEModel<E> {
   bool is_linear() const override { return true; }
   void update(const Nodes&) override {}
   void add_forces(const Nodes& x, Nodes& f) const override;
+  void add_linearized_forces(const Nodes& y, Nodes& f) const override { add_forces(y, f); }
   void add_stiffness(double scale, BlockSparseMatrix& A) const override;
   double energy(const Nodes& x) const override;
 

@@ -1,12 +1,11 @@
 // Preconditioners for the conjugate gradient solver.
 #pragma once
 
-#include <Eigen/SparseCholesky>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "corotate/sparse/block_sparse_matrix.hpp"
+#include "corotate/solvers/block_cholesky.hpp"
 
 namespace corotate {
 
@@ -54,15 +53,14 @@ class BlockJacobiPreconditioner final : public Preconditioner {
 // triangular solves instead of a factorization.
 class ReferenceFactorPreconditioner final : public Preconditioner {
  public:
-  void reset() override { factored_ = false; }
-  void compute(const BlockSparseMatrix& A) override;
-  void apply(const Vec& r, Vec& z) override;
-  Index factor_nonzeros() const { return factored_ ? llt_.matrixL().nestedExpression().nonZeros() : 0; }
+  void reset() override { factor_ = BlockCholesky(); }
+  void compute(const BlockSparseMatrix& A) override {
+    if (factor_.empty()) factor_.factorize(A);
+  }
+  void apply(const Vec& r, Vec& z) override { factor_.solve(r, z); }
 
  private:
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> scalar_;
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>> llt_;
-  bool factored_ = false;
+  BlockCholesky factor_;
 };
 
 enum class PreconditionerKind { None, Jacobi, BlockJacobi, ReferenceFactor };

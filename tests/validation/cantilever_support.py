@@ -1,0 +1,122 @@
+"""Shared helpers for the cantilever validation tests (not a test module).
+
+* consistent nodal loads of a uniform traction on the tip face of a structured beam,
+* Timoshenko static tip deflection of a rectangular cantilever,
+* the inextensible elastica of a cantilever under a dead tip load,
+* the first bending frequency of a Timoshenko cantilever (shear + rotary inertia).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import solve_bvp, solve_ivp
+from scipy.optimize import brentq
+
+# Euler-Bernoulli cantilever: first root of 1 + cos(b) cosh(b) = 0.
+BETA1 = 1.8751040687119611
+
+
+def tip_face_weights(mesh, x_tip: float):
+    """Nodes of the face x = x_tip and the consistent nodal shares of a uniform
+    traction on that face (shares sum to 1).
+
+    For a bilinear (hex8) quad face every corner gets 1/4 of the face's load. For the
+    8-node serendipity (hex20) face the consistent shares are -1/12 for each corner and
+    +1/3 for each mid-edge node, so equal shares would be wrong.
+    """
+    tip = mesh.nodes_on_plane("x", x_tip)
+    weight = np.zeros(mesh.n_nodes)
+    on_face = np.abs(mesh.points[:, 0] - x_tip) <= 1e-9
+    n_corners = 8  # hex8 and hex20 both list their 8 corners first (VTK order)
+    for cell in mesh.cells:
+        local = np.flatnonzero(on_face[cell])
+        if local.size == 0:
+            continue
+        corners = local[local < n_corners]
+        assert corners.size == 4, "a cell touches the tip plane only along an edge?"
+        p = mesh.points[cell[corners]]
+        area = np.ptp(p[:, 1]) * np.ptp(p[:, 2])  # axis-aligned structured faces
+        if mesh.cell_type == "hexahedron":
+            shares = {a: 0.25 for a in local}
+        elif mesh.cell_type == "hexahedron20":
+            assert local.size == 8
+            shares = {a: (-1.0 / 12.0 if a < n_corners else 1.0 / 3.0) for a in local}
+        else:
+            raise ValueError(f"no face rule for {mesh.cell_type}")
+        for a, s in shares.items():
+            weight[cell[a]] += s * area
+    w = weight[tip]
+    assert np.isclose(w.sum(), np.ptp(mesh.points[:, 1]) * np.ptp(mesh.points[:, 2]))
+    return tip, w / w.sum()
+
+
+def rectangle_shear_coefficient(nu: float) -> float:
+    """Cowper's shear coefficient of a rectangular section."""
+    return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
+
+
+def timoshenko_tip_deflection(P, L, b, h, E, nu):
+    """Tip deflection of a clamped-free Timoshenko beam under an end load P."""
+    I = b * h**3 / 12.0
+    A = b * h
+    G = E / (2.0 * (1.0 + nu))
+    return P * L**3 / (3.0 * E * I) + P * L / (rectangle_shear_coefficient(nu) * G * A)
+
+
+def elastica_tip(alpha: float):
+    """Inextensible Euler-Bernoulli cantilever under a dead transverse tip load.
+
+    alpha = P L^2 / (E I). In the arc length s in [0, 1] (units of L):
+    theta'' = -alpha cos(theta), theta(0) = 0, theta'(1) = 0 (no end moment);
+    x' = cos(theta), z' = sin(theta).
+    Returns (tip rotation [rad], x_tip / L, z_tip / L) where z is the deflection
+    magnitude in the load direction.
+    """
+
+    def rhs(s, y):
+        return np.vstack([y[1], -alpha * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])])
+
+    def bc(ya, yb):
+        return np.array([ya[0], yb[1], ya[2], ya[3]])
+
+    s = np.linspace(0.0, 1.0, 101)
+    guess = np.zeros((4, s.size))
+    guess[0] = alpha * (s - s**2 / 2)  # the linear solution
+    guess[1] = alpha * (1 - s)
+    guess[2] = s
+    sol = solve_bvp(rhs, bc, s, guess, tol=1e-10, max_nodes=100000)
+    assert sol.success, sol.message
+    theta_tip, _, x_tip, z_tip = sol.y[:, -1]
+    return theta_tip, x_tip, z_tip
+
+
+def timoshenko_first_frequency(E, nu, rho, L, b, h, f_guess):
+    """First bending frequency [Hz] of a clamped-free Timoshenko beam (bending about
+    the axis of the side b), with shear (Cowper's kappa) and rotary inertia.
+
+    Harmonic motion w(x) e^{i w t}, psi(x) e^{i w t}:
+        kGA (w'' - psi') + rho A w^2 w = 0
+        EI psi'' + kGA (w' - psi) + rho I w^2 psi = 0
+    clamped at x = 0 (w = psi = 0), free at x = L (EI psi' = 0, kGA (w' - psi) = 0).
+    Shooting: the two clamped solutions (w'(0) = 1 or psi'(0) = 1) must combine to
+    satisfy both free-end conditions; the 2x2 determinant vanishes at an eigenfrequency.
+    """
+    A = b * h
+    I = b * h**3 / 12.0
+    G = E / (2.0 * (1.0 + nu))
+    kGA = rectangle_shear_coefficient(nu) * G * A
+
+    def determinant(omega):
+        def rhs(x, y):
+            w, dw, psi, dpsi = y
+            ddw = dpsi - rho * A * omega**2 / kGA * w
+            ddpsi = -(kGA * (dw - psi) + rho * I * omega**2 * psi) / (E * I)
+            return [dw, ddw, dpsi, ddpsi]
+
+        rows = []
+        for y0 in ([0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]):
+            y = solve_ivp(rhs, (0.0, L), y0, method="DOP853", rtol=1e-11, atol=1e-13).y[:, -1]
+            rows.append([y[3], y[1] - y[2]])
+        return np.linalg.det(np.array(rows))
+
+    w0 = 2 * np.pi * f_guess
+    return brentq(determinant, 0.8 * w0, 1.01 * w0, xtol=1e-12, rtol=1e-12) / (2 * np.pi)
