@@ -16,6 +16,8 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   preconditioner_->compute(A);
 
   const double b_norm = b.norm();
+  if (!std::isfinite(b_norm))  // also catches entries so large that the norm overflows
+    throw SolverFailure("PCG: the right-hand side is not finite or too large to solve in double precision");
   if (b_norm == 0) {
     x.setZero();
     return {0, 0.0, true};

@@ -98,8 +98,9 @@ void Simulation::step(int n) {
             << "; the state was restored. Is the time step too large or the mesh inverted?";
         throw SolverFailure(msg.str());
       }
-      x_.swap(x_next_);
-      v_.swap(v_next_);
+      // Copy, not swap: NumPy views point at x_'s and v_'s buffers and must stay valid.
+      x_ = x_next_;
+      v_ = v_next_;
       time_ += dt;
       stats_.last = st;
       ++stats_.steps;

@@ -1,4 +1,5 @@
 #include <sstream>
+#include <vector>
 
 #include "corotate/fem/element_set.hpp"
 
@@ -23,6 +24,15 @@ void validate_mesh(const Nodes& rest, const Connectivity& cells, int nodes_per_c
         msg << "cell " << e << " refers to node " << cells(e, a) << ", out of range [0, " << rest.cols() << ")";
         throw InvalidInput(msg.str());
       }
+  // A node in no cell has neither mass nor stiffness: every solve would be singular.
+  std::vector<char> used(rest.cols(), 0);
+  for (Index k = 0; k < cells.size(); ++k) used[cells.data()[k]] = 1;
+  for (Index i = 0; i < rest.cols(); ++i)
+    if (!used[i]) {
+      msg << "node " << i << " belongs to no cell, so it has no mass or stiffness; remove unused nodes "
+          << "(corotate.read_mesh does so by default)";
+      throw InvalidInput(msg.str());
+    }
 }
 
 }  // namespace corotate

@@ -72,7 +72,7 @@ def test_corotational_rigid_rotation_has_no_forces(element):
     # the origin leaves u at round-off and the energy at eps^2.
     assert abs(body.energy(x)) < 1e-9 * e_ref
     assert abs(body.energy(mesh.points @ Q90.T)) < 1e-20 * e_ref
-    assert np.abs(body.internal_forces(mesh.points @ Q90.T)).max() < 1e-12 * f_ref
+    assert np.abs(body.internal_forces(mesh.points @ Q90.T)).max() < 1e-11 * f_ref
     # The rotated stiffness is Q K Q^T.
     K0 = body.stiffness_matrix().toarray()
     Kq = body.stiffness_matrix(x).toarray()
