@@ -42,6 +42,14 @@ Connectivity cells_from(const CellsIn& cells) {
   return c;
 }
 
+// Positions for a model: (n, 3), one row per node, finite.
+Nodes checked_positions(const ForceModel& model, const PointsIn& x) {
+  Nodes X = nodes_from(x, "positions");
+  if (X.cols() != model.num_nodes()) throw InvalidInput("positions must have one row per node");
+  if (Index i = first_non_finite_node(X); i >= 0) throw InvalidInput("position of node " + std::to_string(i) + " is not finite");
+  return X;
+}
+
 // (n, 3) NumPy view of a 3 x n buffer owned by `owner` (no copy; writable).
 py::array node_view(Nodes& x, py::handle owner) {
   return py::array_t<double>({x.cols(), Index(3)}, {Index(3 * sizeof(double)), Index(sizeof(double))}, x.data(), owner);
@@ -143,23 +151,19 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("name", &ForceModel::name)
       .def_property_readonly("num_nodes", &ForceModel::num_nodes)
       .def("internal_forces", [](ForceModel& self, const PointsIn& x) {
-        const Nodes X = nodes_from(x, "positions");
-        if (X.cols() != self.num_nodes()) throw InvalidInput("positions must have one row per node");
-        if (Index i = first_non_finite_node(X); i >= 0) throw InvalidInput("position of node " + std::to_string(i) + " is not finite");
+        const Nodes X = checked_positions(self, x);
         self.update(X);
         Nodes f = Nodes::Zero(3, X.cols());
         self.add_forces(X, f);
         return Eigen::MatrixXd(f.transpose());
       }, py::arg("positions"), "Internal elastic forces (n, 3) at positions (n, 3).")
       .def("energy", [](ForceModel& self, const PointsIn& x) {
-        const Nodes X = nodes_from(x, "positions");
-        if (X.cols() != self.num_nodes()) throw InvalidInput("positions must have one row per node");
+        const Nodes X = checked_positions(self, x);
         self.update(X);
         return self.energy(X);
       }, py::arg("positions"))
       .def("stiffness_csr", [](ForceModel& self, const PointsIn& x) {
-        const Nodes X = nodes_from(x, "positions");
-        if (X.cols() != self.num_nodes()) throw InvalidInput("positions must have one row per node");
+        const Nodes X = checked_positions(self, x);
         self.update(X);
         BlockSparseMatrix K = self.pattern();
         K.set_zero();

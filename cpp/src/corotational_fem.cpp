@@ -6,18 +6,29 @@ namespace corotate {
 
 namespace {
 // Linear-tet kernels (see kTetKernel in the header).
-void add_tet_forces(const ElementSet<Tet4>& set, const Mat3& R, double lambda, double mu, Index e, const Nodes& x, Nodes& f) {
-  const auto& el = set.element(e);
-  const auto& G = el.centre_gradient;  // 4 x 3, constant on the tet
+// The unrotated small strain sym(R^T F) - I of tet e at positions x.
+Mat3 tet_strain(const ElementSet<Tet4>& set, const Mat3& R, Index e, const Nodes& x) {
+  const auto& G = set.element(e).centre_gradient;  // 4 x 3, constant on the tet
   const int* nodes = &set.cells()(e, 0);
   Mat3 F = Mat3::Zero();
   for (int a = 0; a < 4; ++a) F.noalias() += x.col(nodes[a]) * G.row(a);
-  Mat3 strain = R.transpose() * F;  // sym(R^T F) - I is the unrotated small strain
+  Mat3 strain = R.transpose() * F;
   strain = 0.5 * (strain + strain.transpose()).eval();
   strain.diagonal().array() -= 1.0;
+  return strain;
+}
+
+Mat3 linear_stress(const Mat3& strain, double lambda, double mu) {
   Mat3 stress = (2 * mu) * strain;
   stress.diagonal().array() += lambda * strain.trace();
-  const Mat3 P = el.volume * R * stress;  // f_a = -P dN_a/dX
+  return stress;
+}
+
+void add_tet_forces(const ElementSet<Tet4>& set, const Mat3& R, double lambda, double mu, Index e, const Nodes& x, Nodes& f) {
+  const auto& el = set.element(e);
+  const auto& G = el.centre_gradient;
+  const int* nodes = &set.cells()(e, 0);
+  const Mat3 P = el.volume * R * linear_stress(tet_strain(set, R, e, x), lambda, mu);  // f_a = -P dN_a/dX
   for (int a = 0; a < 4; ++a) f.col(nodes[a]).noalias() -= P * G.row(a).transpose();
 }
 
@@ -44,7 +55,9 @@ CorotationalFEM<E>::CorotationalFEM(const Nodes& rest, const Connectivity& cells
       lambda_(material.lame_lambda()),
       mu_(material.lame_mu()),
       rotations_(cells.rows(), Mat3::Identity()),
-      warm_start_(cells.rows(), Eigen::Quaterniond::Identity()) {}
+      warm_start_(cells.rows(), Eigen::Quaterniond::Identity()) {
+  if constexpr (kTetKernel) this->elements_.release_stiffness();
+}
 
 template <class E>
 void CorotationalFEM<E>::update(const Nodes& x) {
@@ -67,7 +80,7 @@ void CorotationalFEM<E>::add_element_forces(Index e, const Nodes& x, Nodes& f) c
   // Unrotated displacement u = R^T x_e - X_e, element force in that frame -K u, rotated back.
   Eigen::Matrix<double, 3, N> u = R.transpose() * set.gather(x, e) - set.gather(set.rest(), e);
   const Eigen::Matrix<double, 3 * N, 1> ku =
-      set.element(e).stiffness * Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(u.data());
+      set.stiffness(e) * Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(u.data());
   const Eigen::Matrix<double, 3, N> fe = R * Eigen::Map<const Eigen::Matrix<double, 3, N>>(ku.data());
   for (int a = 0; a < N; ++a) f.col(set.cells()(e, a)) -= fe.col(a);
   }
@@ -83,7 +96,7 @@ void CorotationalFEM<E>::add_element_stiffness(Index e, double scale, BlockSpars
   const auto& set = this->elements_;
   const Mat3 sR = scale * rotations_[e];
   const Mat3& R = rotations_[e];
-  const auto& K = set.element(e).stiffness;
+  const auto& K = set.stiffness(e);
   const int* ids = set.block_ids(e);
   // K_e is symmetric: rotate the upper blocks and mirror them.
   for (int a = 0; a < N; ++a)
@@ -121,9 +134,14 @@ double CorotationalFEM<E>::energy(const Nodes& x) const {
   const auto& set = this->elements_;
   double total = 0;
   for (Index e = 0; e < set.num_elements(); ++e) {
-    Eigen::Matrix<double, 3, N> u = rotations_[e].transpose() * set.gather(x, e) - set.gather(set.rest(), e);
-    const Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>> uv(u.data());
-    total += 0.5 * uv.dot(set.element(e).stiffness * uv);
+    if constexpr (kTetKernel) {
+      const Mat3 strain = tet_strain(set, rotations_[e], e, x);
+      total += 0.5 * set.element(e).volume * (strain.cwiseProduct(linear_stress(strain, lambda_, mu_))).sum();
+    } else {
+      Eigen::Matrix<double, 3, N> u = rotations_[e].transpose() * set.gather(x, e) - set.gather(set.rest(), e);
+      const Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>> uv(u.data());
+      total += 0.5 * uv.dot(set.stiffness(e) * uv);
+    }
   }
   return total;
 }

@@ -6,15 +6,16 @@ template <class E>
 LinearFEM<E>::LinearFEM(const Nodes& rest, const Connectivity& cells, const Material& material)
     : FEModel<E>(rest, cells, material) {
   constexpr int N = E::num_nodes;
-  const auto& set = this->elements_;
+  auto& set = this->elements_;
   stiffness_ = set.pattern();
   stiffness_.set_zero();
   for (Index e = 0; e < set.num_elements(); ++e) {
     const int* ids = set.block_ids(e);
-    const auto& K = set.element(e).stiffness;
+    const auto& K = set.stiffness(e);
     for (int a = 0; a < N; ++a)
       for (int b = 0; b < N; ++b) stiffness_.block(ids[a * N + b]) += K.template block<3, 3>(3 * a, 3 * b);
   }
+  set.release_stiffness();  // the assembled K is all this model uses
   displacement_.resize(3 * rest.cols());
   kd_.resize(3 * rest.cols());
 }

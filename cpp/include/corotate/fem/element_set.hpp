@@ -18,6 +18,7 @@ class ElementSet {
   static constexpr int N = E::num_nodes;
   using Matrices = ElementMatrices<E>;
   using NodeMatrix = typename Matrices::NodeMatrix;
+  using Stiffness = typename Matrices::Stiffness;
 
   // rest: 3 x n node coordinates; cells: m x N node indices (VTK ordering).
   ElementSet(const Nodes& rest, const Connectivity& cells, const Material& material)
@@ -26,9 +27,12 @@ class ElementSet {
     material.validate();
     pattern_ = BlockSparseMatrix::from_cells(rest.cols(), cells);
     elements_.reserve(cells.rows());
+    stiffness_.reserve(cells.rows());
     block_ids_.resize(cells.rows() * N * N);
     for (Index e = 0; e < cells.rows(); ++e) {
-      elements_.push_back(compute_element_matrices<E>(gather(rest, e), material, e));
+      Matrices m = compute_element_matrices<E>(gather(rest, e), material, e);
+      stiffness_.push_back(m.stiffness);
+      elements_.push_back({m.mass, m.lumped_mass, m.centre_gradient, m.volume});
       for (int a = 0; a < N; ++a)
         for (int b = 0; b < N; ++b)
           block_ids_[(e * N + a) * N + b] = pattern_.block_index(cells(e, a), cells(e, b));
@@ -40,7 +44,12 @@ class ElementSet {
   const Nodes& rest() const { return rest_; }
   const Connectivity& cells() const { return cells_; }
   const Material& material() const { return material_; }
-  const Matrices& element(Index e) const { return elements_[e]; }
+  const auto& element(Index e) const { return elements_[e]; }
+  // K_e of element e; only until release_stiffness().
+  const Stiffness& stiffness(Index e) const { return stiffness_[e]; }
+  // Models that do not need K_e during the simulation (the linear model, once it has
+  // assembled K; co-rotated tets) free it: 1.1 kB per tet, 28.8 kB per Hex20.
+  void release_stiffness() { std::vector<Stiffness>().swap(stiffness_); }
   const BlockSparseMatrix& pattern() const { return pattern_; }
   // Global block index of element e's block (a, b).
   const int* block_ids(Index e) const { return block_ids_.data() + e * N * N; }
@@ -71,7 +80,14 @@ class ElementSet {
   Nodes rest_;
   Connectivity cells_;
   Material material_;
-  std::vector<Matrices> elements_;
+  struct Element {  // what every model keeps per element
+    Eigen::Matrix<double, N, N> mass;
+    Eigen::Matrix<double, N, 1> lumped_mass;
+    typename Matrices::Gradient centre_gradient;
+    double volume;
+  };
+  std::vector<Element> elements_;
+  std::vector<Stiffness> stiffness_;
   BlockSparseMatrix pattern_;
   std::vector<int> block_ids_;
 };
