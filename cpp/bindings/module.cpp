@@ -16,6 +16,8 @@
 namespace py = pybind11;
 using namespace corotate;
 
+void bind_mass_spring(py::module_& m);  // mass_spring_bindings.cpp
+
 namespace {
 
 using PointsIn = py::array_t<double, py::array::c_style | py::array::forcecast>;
@@ -272,4 +274,6 @@ PYBIND11_MODULE(_core, m) {
         return d;
       })
       .def("reset_stats", &Simulation::reset_stats);
+
+  bind_mass_spring(m);  // after ForceModel, which MassSpring derives from
 }
