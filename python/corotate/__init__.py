@@ -1,7 +1,8 @@
 """corotate: fast simulation of large deformations of elastic solids.
 
 Co-rotational and linear FEM on tet, hex and quadratic hex meshes, stepped implicitly
-frame by frame from Python by a C++ core.
+frame by frame from Python by a C++ core; mass-spring bodies (cloth, cube lattices, any
+tet/hex mesh) stepped explicitly with a safe time step (MassSpringBody, ExplicitSimulation).
 
     import corotate as cr
     mesh = cr.beam(5.0, 1.0, 1.0, cells=(20, 4, 4))
@@ -16,7 +17,9 @@ from .material import Material
 from .body import Body
 from .solvers import PCG, Direct
 from .simulation import Simulation
+from .mass_spring import MassSpringBody, SpringGeometry
+from .explicit import ExplicitSimulation
 
 __all__ = ["Mesh", "beam", "box", "read_mesh", "write_mesh", "TimeSeriesWriter", "Material", "Body", "PCG",
-           "Direct", "Simulation"]
+           "Direct", "Simulation", "MassSpringBody", "SpringGeometry", "ExplicitSimulation"]
 __version__ = "0.1.0"

@@ -1,0 +1,228 @@
+"""Explicit stepping of mass-spring bodies: symplectic Euler or velocity Verlet with a
+critical time step from the highest eigenfrequency, and sub-stepping."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _core
+from .mass_spring import MassSpringBody
+
+__all__ = ["ExplicitSimulation"]
+
+INTEGRATORS = ("verlet", "symplectic_euler")
+POLICIES = ("fixed", "online")
+ON_UNSTABLE = ("substep", "raise", "allow")
+
+
+class ExplicitSimulation:
+    """Explicit simulation of a MassSpringBody, with the same surface as Simulation.
+
+    body          MassSpringBody
+    dt            step [s] that step() advances, e.g. a frame time; None = the stable step
+    integrator    "verlet" (velocity Verlet, default) or "symplectic_euler"
+    on_unstable   what happens when dt exceeds the stable step safety * dt_crit:
+                  "substep" (default: split it into equal stable substeps), "raise"
+                  (ValueError naming dt and the limit) or "allow" (take it; experiments only)
+    policy        how dt_crit is estimated: "fixed" (default; once, from a bound of the
+                  stiffness valid in every configuration: conservative) or "online" (the
+                  linearised system at the current positions, re-estimated every step)
+    safety        fraction of dt_crit a substep may use, in (0, 1] (default 0.9)
+    gravity       (3,) acceleration [m/s^2]
+    mass_damping  alpha [1/s]: force -alpha m v on every free node (velocity damping)
+
+    dt_crit = (sqrt(c^2 + 4 w^2) - c) / w^2 (= 2 / w undamped), with w^2 the highest
+    eigenvalue of M^-1 K found by Lanczos and c that of M^-1 C plus mass_damping; it holds
+    for both integrators (see cpp/.../critical_time_step.hpp).
+
+    positions, velocities and external_forces are (n, 3) float64 views of the state held in
+    C++ (no copies); write into them between steps. Pinned nodes keep their velocity.
+    A step producing non-finite values raises RuntimeError and restores the state.
+    """
+
+    def __init__(self, body: MassSpringBody, dt=None, integrator: str = "verlet", on_unstable: str = "substep",
+                 policy: str = "fixed", safety: float = 0.9, gravity=(0.0, 0.0, 0.0), mass_damping: float = 0.0):
+        if not isinstance(body, MassSpringBody):
+            raise TypeError("body must be a corotate.MassSpringBody")
+        self.body = body
+        self._settings = dict(time_step=self._check_dt(dt), integrator=integrator, policy=policy,
+                              on_unstable=on_unstable, safety=float(safety), mass_damping=float(mass_damping))
+        self._sim = _core.ExplicitSimulation(body.nodes, body.springs, body.stiffness, body.damping, body.rest_lengths,
+                                             body.masses, **self._settings)
+        self.gravity = gravity
+
+    @staticmethod
+    def _check_dt(dt) -> float:
+        if dt is None:
+            return 0.0
+        dt = float(dt)
+        if not (dt > 0) or not math.isfinite(dt):
+            raise ValueError(f"time step dt must be positive and finite (or None for the stable step), got {dt}")
+        return dt
+
+    def _configure(self, **changes) -> None:
+        settings = {**self._settings, **changes}
+        self._sim.configure(**settings)
+        self._settings = settings
+
+    # --- state -------------------------------------------------------------------------
+    @property
+    def positions(self) -> np.ndarray:
+        """(n, 3) current node positions (a writable view)."""
+        return self._sim.positions
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """(n, 3) current node velocities (a writable view)."""
+        return self._sim.velocities
+
+    @property
+    def external_forces(self) -> np.ndarray:
+        """(n, 3) external nodal forces [N], kept between steps (a writable view)."""
+        return self._sim.external_forces
+
+    @property
+    def displacements(self) -> np.ndarray:
+        """(n, 3) positions minus rest positions (a new array)."""
+        return self.positions - self.body.nodes
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self._sim.time
+
+    @property
+    def gravity(self) -> np.ndarray:
+        """(3,) gravitational acceleration [m/s^2]."""
+        return np.array(self._sim.gravity)
+
+    @gravity.setter
+    def gravity(self, g):
+        g = np.asarray(g, dtype=np.float64)
+        if g.shape != (3,):
+            raise ValueError("gravity must be a 3-vector")
+        self._sim.gravity = g
+
+    # --- settings ----------------------------------------------------------------------
+    @property
+    def dt(self):
+        """The step step() advances [s]; None = the stable step. Settable."""
+        return self._settings["time_step"] or None
+
+    @dt.setter
+    def dt(self, value):
+        self._configure(time_step=self._check_dt(value))
+
+    @property
+    def integrator(self) -> str:
+        """"verlet" or "symplectic_euler" (settable)."""
+        return self._settings["integrator"]
+
+    @integrator.setter
+    def integrator(self, name: str):
+        self._configure(integrator=name)
+
+    @property
+    def on_unstable(self) -> str:
+        """"substep", "raise" or "allow" (settable)."""
+        return self._settings["on_unstable"]
+
+    @on_unstable.setter
+    def on_unstable(self, value: str):
+        self._configure(on_unstable=value)
+
+    @property
+    def policy(self) -> str:
+        """"fixed" or "online" (settable)."""
+        return self._settings["policy"]
+
+    @policy.setter
+    def policy(self, value: str):
+        self._configure(policy=value)
+
+    # --- constraints -------------------------------------------------------------------
+    def fix(self, nodes) -> None:
+        """Pin the given nodes (int indices or a boolean mask), replacing the previous set.
+
+        Pinned nodes feel no force; they keep their velocity (zero unless set) and move with
+        it, so writing into ``positions``/``velocities`` prescribes their motion."""
+        nodes = np.asarray(nodes)
+        if nodes.dtype == bool:
+            if nodes.shape != (self.body.n_nodes,):
+                raise ValueError("a boolean node mask needs one entry per node")
+            nodes = np.flatnonzero(nodes)
+        if nodes.size and not np.issubdtype(nodes.dtype, np.integer):
+            raise ValueError("node indices must be integers")
+        self._sim.fixed_nodes = [int(i) for i in nodes.ravel()]
+
+    def free(self) -> None:
+        """Release all pinned nodes."""
+        self._sim.fixed_nodes = []
+
+    @property
+    def fixed_nodes(self) -> np.ndarray:
+        return np.array(self._sim.fixed_nodes, dtype=np.int64)
+
+    # --- time step ---------------------------------------------------------------------
+    @property
+    def critical_time_step(self) -> float:
+        """dt_crit [s] that the next step uses (by the policy)."""
+        return self._sim.stability()["critical_step"]
+
+    @property
+    def stable_time_step(self) -> float:
+        """safety * dt_crit [s]: the largest substep taken."""
+        return self._settings["safety"] * self.critical_time_step
+
+    def stability(self, which: str = "current") -> dict:
+        """The stability estimate: critical_step [s], omega_max [rad/s], lambda_max
+        (of M^-1 K, Ritz value + residual), damping_rate c [1/s], bound (bool), and the
+        Lanczos details. which: "current" (what the steps use), "configuration" (the
+        linearised system at the current positions) or "bound" (valid for all positions)."""
+        if which == "current":
+            return self._sim.stability()
+        if which not in ("configuration", "bound"):
+            raise ValueError(f"unknown estimate {which!r}; choose 'current', 'configuration' or 'bound'")
+        return self._sim.estimate_stability(which == "bound")
+
+    # --- stepping ----------------------------------------------------------------------
+    def step(self, n: int = 1) -> None:
+        """Advance n steps of dt, each in as many stable substeps as needed.
+
+        Raises ValueError for non-finite state or loads and, with on_unstable="raise", when
+        dt exceeds the stable step; RuntimeError when a step produces non-finite values.
+        In every case the state is left exactly as it was before the call."""
+        self._sim.step(int(n))
+
+    def advance(self, duration: float) -> None:
+        """Advance by duration [s] (needs dt set): round(duration / dt) steps."""
+        if self.dt is None:
+            raise ValueError("advance needs a fixed dt; with dt=None use step(n)")
+        self.step(int(round(float(duration) / self.dt)))
+
+    def internal_forces(self) -> np.ndarray:
+        """(n, 3) elastic spring forces at the current positions."""
+        return self._sim.internal_forces()
+
+    def damping_forces(self) -> np.ndarray:
+        """(n, 3) spring damping forces at the current positions and velocities."""
+        return self._sim.damping_forces()
+
+    def energy(self) -> float:
+        """Spring energy at the current positions."""
+        return self._sim.energy()
+
+    def kinetic_energy(self) -> float:
+        """sum m |v|^2 / 2."""
+        return self._sim.kinetic_energy()
+
+    @property
+    def stats(self) -> dict:
+        """Since reset_stats(): steps, substeps, ms_per_step, simulated_time, wall_time
+        [s], estimate_time [s] and estimates (dt_crit estimates), real_time_ratio; and the
+        last step's substeps (last_substeps) and their size (last_substep [s])."""
+        return self._sim.stats
+
+    def reset_stats(self) -> None:
+        self._sim.reset_stats()
