@@ -199,15 +199,18 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("preconditioner", [](const PCGSettings& s) { return preconditioner_name(s.preconditioner); });
 
   m.def("solve_linear", [](const BlockSparseMatrix& A, const Vec& b, const std::optional<Vec>& x0, const std::string& solver,
-                           const PCGSettings& pcg) {
+                           const PCGSettings& pcg, const std::optional<PointsIn>& geometry) {
     if (b.size() != A.num_dofs()) throw InvalidInput("right-hand side length does not match the matrix");
     Vec x = x0 ? *x0 : Vec::Zero(b.size());
     if (x.size() != b.size()) throw InvalidInput("initial guess length does not match the matrix");
     auto s = make_solver(solver, pcg);
+    if (geometry) s->set_geometry(nodes_from(*geometry, "geometry"));
     const SolveStats stats = s->solve(A, b, x);
     return py::make_tuple(x, solve_stats_dict(stats));
   }, py::arg("A"), py::arg("b"), py::arg("x0") = py::none(), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{},
-        "Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. Returns (x, stats).");
+        py::arg("geometry") = py::none(),
+        "Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node\n"
+        "positions, needed by the two_level preconditioner. Returns (x, stats).");
 
   py::class_<ImplicitEulerSettings>(m, "ImplicitEulerSettings")
       .def(py::init([](double dt, double alpha, double beta, bool lumped) {

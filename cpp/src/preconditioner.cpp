@@ -1,5 +1,7 @@
 #include "corotate/solvers/preconditioner.hpp"
 
+#include "corotate/solvers/two_level_preconditioner.hpp"
+
 namespace corotate {
 
 void JacobiPreconditioner::compute(const BlockSparseMatrix& A) {
@@ -32,7 +34,8 @@ PreconditionerKind preconditioner_kind_from_name(const std::string& name) {
   if (name == "jacobi") return PreconditionerKind::Jacobi;
   if (name == "block_jacobi") return PreconditionerKind::BlockJacobi;
   if (name == "reference_factor") return PreconditionerKind::ReferenceFactor;
-  throw InvalidInput("unknown preconditioner '" + name + "' (choose none, jacobi, block_jacobi or reference_factor)");
+  if (name == "two_level") return PreconditionerKind::TwoLevel;
+  throw InvalidInput("unknown preconditioner '" + name + "' (choose none, jacobi, block_jacobi, reference_factor or two_level)");
 }
 
 const char* preconditioner_name(PreconditionerKind kind) {
@@ -41,6 +44,7 @@ const char* preconditioner_name(PreconditionerKind kind) {
     case PreconditionerKind::Jacobi: return "jacobi";
     case PreconditionerKind::BlockJacobi: return "block_jacobi";
     case PreconditionerKind::ReferenceFactor: return "reference_factor";
+    case PreconditionerKind::TwoLevel: return "two_level";
   }
   return "?";
 }
@@ -51,6 +55,7 @@ std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
     case PreconditionerKind::Jacobi: return std::make_unique<JacobiPreconditioner>();
     case PreconditionerKind::BlockJacobi: return std::make_unique<BlockJacobiPreconditioner>();
     case PreconditionerKind::ReferenceFactor: return std::make_unique<ReferenceFactorPreconditioner>();
+    case PreconditionerKind::TwoLevel: return std::make_unique<TwoLevelPreconditioner>();
   }
   throw InvalidInput("unknown preconditioner kind");
 }

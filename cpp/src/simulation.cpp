@@ -13,6 +13,7 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const ImplicitEulerSet
   if (!model_) throw InvalidInput("Simulation needs a force model");
   if (!solver_) throw InvalidInput("Simulation needs a linear solver");
   integrator_ = std::make_unique<ImplicitEuler>(*model_, settings);
+  solver_->set_geometry(model_->rest_positions());
   x_ = model_->rest_positions();
   const Index n = model_->num_nodes();
   v_.setZero(3, n);
@@ -66,6 +67,7 @@ void Simulation::set_settings(const ImplicitEulerSettings& settings) {
 void Simulation::set_solver(std::unique_ptr<LinearSolver> solver) {
   if (!solver) throw InvalidInput("Simulation needs a linear solver");
   solver_ = std::move(solver);
+  solver_->set_geometry(model_->rest_positions());
 }
 
 void Simulation::check_finite_state() const {

@@ -16,6 +16,8 @@ class LinearSolver {
   virtual ~LinearSolver() = default;
   // Forget everything cached about earlier systems (pattern, constraints or dt changed).
   virtual void reset() = 0;
+  // Rest node positions (3 x n), for solvers whose preconditioner uses the geometry.
+  virtual void set_geometry(const Nodes&) {}
   // Solve A x = b. x holds the initial guess on entry (used by warm-started iterative
   // solvers) and the solution on exit.
   virtual SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) = 0;

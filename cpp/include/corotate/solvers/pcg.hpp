@@ -21,6 +21,7 @@ class PCG final : public LinearSolver {
   explicit PCG(const PCGSettings& settings = {});
   const PCGSettings& settings() const { return settings_; }
   void reset() override { preconditioner_->reset(); }
+  void set_geometry(const Nodes& rest) override { preconditioner_->set_geometry(rest); }
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
 
  private:

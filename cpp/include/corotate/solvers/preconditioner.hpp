@@ -13,6 +13,8 @@ class Preconditioner {
  public:
   virtual ~Preconditioner() = default;
   virtual void reset() {}
+  // Rest node positions (3 x n) for preconditioners that build near-null-space modes.
+  virtual void set_geometry(const Nodes&) {}
   // Called once per solve with the current system matrix.
   virtual void compute(const BlockSparseMatrix& A) = 0;
   // z = P^-1 r.
@@ -42,6 +44,7 @@ class BlockJacobiPreconditioner final : public Preconditioner {
  public:
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
+  const Mat3& inverse_block(Index node) const { return inverse_blocks_[node]; }
 
  private:
   std::vector<Mat3> inverse_blocks_;
@@ -63,7 +66,7 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   BlockCholesky factor_;
 };
 
-enum class PreconditionerKind { None, Jacobi, BlockJacobi, ReferenceFactor };
+enum class PreconditionerKind { None, Jacobi, BlockJacobi, ReferenceFactor, TwoLevel };
 
 PreconditionerKind preconditioner_kind_from_name(const std::string& name);
 const char* preconditioner_name(PreconditionerKind kind);

@@ -1,0 +1,167 @@
+#include "corotate/solvers/two_level_preconditioner.hpp"
+
+#include <Eigen/QR>
+#include <cmath>
+
+namespace corotate {
+
+namespace {
+
+using Triplets = std::vector<Eigen::Triplet<double, int>>;
+
+// Greedy aggregation of the node graph: a node whose neighbours are all free starts an
+// aggregate with them; leftovers join a neighbouring aggregate. Returns aggregate per node.
+std::vector<int> aggregate_nodes(const BlockSparseMatrix& A, int* count) {
+  const Index n = A.num_nodes();
+  const auto& start = A.row_start();
+  const auto& cols = A.columns();
+  std::vector<int> agg(n, -1);
+  int m = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (agg[i] >= 0) continue;
+    bool free = true;
+    for (int k = start[i]; k < start[i + 1] && free; ++k) free = agg[cols[k]] < 0;
+    if (!free) continue;
+    for (int k = start[i]; k < start[i + 1]; ++k) agg[cols[k]] = m;
+    ++m;
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (agg[i] >= 0) continue;
+    for (int k = start[i]; k < start[i + 1]; ++k)
+      if (agg[cols[k]] >= 0 && cols[k] != i) {
+        agg[i] = agg[cols[k]];
+        break;
+      }
+    if (agg[i] < 0) agg[i] = m++;  // isolated node
+  }
+  *count = m;
+  return agg;
+}
+
+// DOFs that a FixedDofs projection decoupled: unit diagonal, nothing else in the row.
+std::vector<char> decoupled_dofs(const BlockSparseMatrix& A) {
+  std::vector<char> fixed(A.num_dofs(), 0);
+  const auto& start = A.row_start();
+  const auto& cols = A.columns();
+  for (Index i = 0; i < A.num_nodes(); ++i)
+    for (int r = 0; r < 3; ++r) {
+      bool alone = true;
+      for (int k = start[i]; k < start[i + 1] && alone; ++k)
+        for (int c = 0; c < 3 && alone; ++c) {
+          const double v = A.block(k)(r, c);
+          alone = (cols[k] == i && c == r) ? v == 1.0 : v == 0.0;
+        }
+      fixed[3 * i + r] = alone;
+    }
+  return fixed;
+}
+
+}  // namespace
+
+void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
+  const Index n = A0.num_nodes(), dofs = A0.num_dofs();
+  if (rest_.cols() != n)
+    throw InvalidInput("the two_level preconditioner needs the rest node positions (geometry) of the " + std::to_string(n) +
+                       "-node system");
+  int m = 0;
+  const std::vector<int> agg = aggregate_nodes(A0, &m);
+  const std::vector<char> fixed = decoupled_dofs(A0);
+  std::vector<std::vector<int>> members(m);
+  for (Index i = 0; i < n; ++i) members[agg[i]].push_back(static_cast<int>(i));
+
+  // Tentative prolongator: per aggregate, an orthonormal basis of its rigid-body modes
+  // (translations e_k, rotations w x (X - c)), with fixed DOFs left out.
+  Triplets t;
+  int coarse_dofs = 0;
+  for (int a = 0; a < m; ++a) {
+    const auto& nodes = members[a];
+    Vec3 centre = Vec3::Zero();
+    for (int i : nodes) centre += rest_.col(i);
+    centre /= double(nodes.size());
+    Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(3 * nodes.size(), 6);
+    for (size_t k = 0; k < nodes.size(); ++k) {
+      const Vec3 d = rest_.col(nodes[k]) - centre;
+      Mat3 rot;  // columns: displacement of this node for a unit rotation about x, y, z
+      rot << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
+      modes.block<3, 3>(3 * k, 0).setIdentity();
+      modes.block<3, 3>(3 * k, 3) = rot;
+      for (int r = 0; r < 3; ++r)
+        if (fixed[3 * nodes[k] + r]) modes.row(3 * k + r).setZero();
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(modes);
+    qr.setThreshold(1e-10);
+    const Index rank = qr.rank();
+    if (rank == 0) continue;  // a fully fixed aggregate has no coarse DOFs
+    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(modes.rows(), rank);
+    for (size_t k = 0; k < nodes.size(); ++k)
+      for (int r = 0; r < 3; ++r)
+        if (!fixed[3 * nodes[k] + r])
+          for (Index c = 0; c < rank; ++c) t.emplace_back(3 * nodes[k] + r, coarse_dofs + int(c), Q(3 * k + r, c));
+    coarse_dofs += int(rank);
+  }
+  SparseMatrix tentative(dofs, coarse_dofs);
+  tentative.setFromTriplets(t.begin(), t.end());
+
+  // Scalar A0 and its inverse block diagonal.
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> a0;
+  A0.copy_to(a0);  // symmetric: CSC of A0 is also its CSR
+  const SparseMatrix A = a0;
+  diagonal_.compute(A0);
+  t.clear();
+  for (Index i = 0; i < n; ++i)
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) t.emplace_back(3 * i + r, 3 * i + c, diagonal_.inverse_block(i)(r, c));
+  SparseMatrix inverse_diagonal(dofs, dofs);
+  inverse_diagonal.setFromTriplets(t.begin(), t.end());
+
+  // lambda_max(D^-1 A0) by power iteration; 4 / (3 lambda) damps the highest modes.
+  Vec x = Vec::Ones(dofs), y(dofs), w(dofs);
+  double lambda = 1;
+  for (int it = 0; it < 20; ++it) {
+    A0.multiply(x, y);
+    diagonal_.apply(y, w);
+    lambda = w.norm() / x.norm();
+    x = w / w.norm();
+  }
+  smoothing_weight_ = 4.0 / (3.0 * lambda);
+
+  prolongation_ = tentative - smoothing_weight_ * (inverse_diagonal * (A * tentative));
+  prolongation_.prune(0.0);
+  restriction_ = prolongation_.transpose();
+  coarse_ = Eigen::SparseMatrix<double, Eigen::ColMajor, int>(restriction_ * (A * prolongation_));
+  coarse_factor_.compute(coarse_);
+  if (coarse_factor_.info() != Eigen::Success)
+    throw SolverFailure("two-level preconditioner: the coarse matrix is not positive definite");
+  residual_.resize(dofs);
+  correction_.resize(dofs);
+  coarse_rhs_.resize(coarse_dofs);
+  coarse_solution_.resize(coarse_dofs);
+  ready_ = true;
+}
+
+void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
+  if (!ready_) setup(A);
+  A_ = &A;
+  diagonal_.compute(A);
+}
+
+void TwoLevelPreconditioner::smooth(const Vec& r, Vec& z) {
+  diagonal_.apply(r, z);
+  z *= smoothing_weight_;
+}
+
+void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
+  // Symmetric V(1,1): smooth, coarse-correct, smooth.
+  smooth(r, z);
+  A_->multiply(z, residual_);
+  residual_ = r - residual_;
+  coarse_rhs_.noalias() = restriction_ * residual_;
+  coarse_solution_ = coarse_factor_.solve(coarse_rhs_);
+  z.noalias() += prolongation_ * coarse_solution_;
+  A_->multiply(z, residual_);
+  residual_ = r - residual_;
+  smooth(residual_, correction_);
+  z += correction_;
+}
+
+}  // namespace corotate
