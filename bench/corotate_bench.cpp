@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "beam_scenario.hpp"
+#include "mass_spring_scenario.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/simulation.hpp"
 #include "corotate/solvers/direct_solver.hpp"
@@ -143,6 +144,9 @@ void usage() {
       "  --preconditioner P, --tolerance T, --cap N, --cold\n"
       "                      settings of the 'custom' configuration (none, jacobi, block_jacobi,\n"
       "                      reference_factor, two_level; default block_jacobi, 1e-6, 20, warm start)\n"
+      "  --scenario mass_spring [--frames N] [--integrator I]\n"
+      "                      (first option) explicit mass-spring cloth and lattices instead; see\n"
+      "                      bench/mass_spring_scenario.hpp\n"
       "Each mesh first runs 'reference' (two-level PCG to 1e-10) so deviations are measured honestly.");
 }
 
@@ -151,6 +155,12 @@ void usage() {
 int main(int argc, char** argv) {
   Options opt;
   try {
+    // --scenario mass_spring: the explicit mass-spring benchmark (mass_spring_scenario.hpp).
+    if (argc >= 3 && std::string(argv[1]) == "--scenario") {
+      if (std::string(argv[2]) == "mass_spring") return bench::mass_spring_main(argc - 3, argv + 3);
+      if (std::string(argv[2]) != "beam") throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring)");
+      argc -= 2, argv += 2;
+    }
     for (int a = 1; a < argc; ++a) {
       const std::string arg = argv[a];
       auto value = [&]() -> std::string {
@@ -179,12 +189,12 @@ int main(int argc, char** argv) {
 
     std::printf("scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, one thread\n",
                 opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent");
-    std::printf("%-16s %7s %-13s %9s %9s %8s %7s %7s %7s %7s %6s %8s %10s %8s\n", "mesh", "tets", "config", "precmp_ms", "1st_step",
+    std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %7s %6s %8s %10s %8s\n", "mesh", "tets", "config", "precmp_ms", "1st_step",
                 "ms/step", "rot", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]");
     for (const auto& [label, mesh] : meshes) {
       const RunResult ref = run(mesh, config_by_name("reference", opt), opt);
       auto print = [&](const std::string& name, const RunResult& r) {
-        std::printf("%-16s %7ld %-13s %9.1f %9.1f %8.3f %7.3f %7.3f %7.3f %7.2f %6d %8.2f %10.5f %8.3f\n", label.c_str(),
+        std::printf("%-16s %7ld %-16s %9.1f %9.1f %8.3f %7.3f %7.3f %7.3f %7.2f %6d %8.2f %10.5f %8.3f\n", label.c_str(),
                     static_cast<long>(mesh.cells.rows()), name.c_str(), r.precompute_ms, r.first_step_ms, r.median_ms, r.rotation_ms,
                     r.assembly_ms, r.solve_ms, r.iterations, r.max_iterations, r.real_time_ratio, r.tip_z,
                     100.0 * (r.tip_z - ref.tip_z) / ref.tip_z);
