@@ -1,7 +1,9 @@
 #include "corotate/explicit_simulation.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace corotate {
@@ -44,6 +46,10 @@ ExplicitSimulation::ExplicitSimulation(std::unique_ptr<MassSpring> model, const 
   load_.setZero(3, n);
   gravity_forces_.setZero(3, n);
   work_ = model_->pattern();
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const Spring& spring : model_->springs())
+    if (spring.rest_length > 0) shortest = std::min(shortest, spring.rest_length);
+  online_tolerance_ = std::isfinite(shortest) ? 0.05 * shortest : 0.0;
   rebuild_node_factors();
 }
 
@@ -111,9 +117,16 @@ StabilityEstimate ExplicitSimulation::estimate_stability(bool bound) {
 }
 
 const StabilityEstimate& ExplicitSimulation::stability() {
-  if (settings_.policy == TimeStepPolicy::Online || stability_stale_) {
-    stability_ = estimate_stability(settings_.policy == TimeStepPolicy::Fixed);
+  const bool online = settings_.policy == TimeStepPolicy::Online;
+  if (online && !stability_stale_) {
+    double moved = 0;  // largest node movement since the last estimate (no allocation)
+    for (Index i = 0; i < num_nodes(); ++i) moved = std::max(moved, (x_.col(i) - x_at_estimate_.col(i)).squaredNorm());
+    stability_stale_ = std::sqrt(moved) > online_tolerance_;
+  }
+  if (stability_stale_) {
+    stability_ = estimate_stability(!online);
     stability_stale_ = false;
+    if (online) x_at_estimate_ = x_;
   }
   return stability_;
 }

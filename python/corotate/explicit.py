@@ -27,7 +27,8 @@ class ExplicitSimulation:
                   (ValueError naming dt and the limit) or "allow" (take it; experiments only)
     policy        how dt_crit is estimated: "fixed" (default; once, from a bound of the
                   stiffness valid in every configuration: conservative) or "online" (the
-                  linearised system at the current positions, re-estimated every step)
+                  linearised system at the current positions, re-estimated when a node
+                  has moved more than 5 % of the shortest rest length since the last one)
     safety        fraction of dt_crit a substep may use, in (0, 1] (default 0.9)
     gravity       (3,) acceleration [m/s^2]
     mass_damping  alpha [1/s]: force -alpha m v on every free node (velocity damping)

@@ -195,8 +195,20 @@ def test_policies_and_views():
     assert view[5, 2] < body.nodes[5, 2]  # falling under gravity, seen through the old view
     np.testing.assert_array_equal(sim.positions[pinned], body.nodes[pinned])
     sim.policy = "online"
+    sim.step(1)
+    assert sim.stats["estimates"] == 2  # online: estimated at the current positions
+    # No new estimate while no node has moved 5 % of the shortest rest length ...
+    sim.gravity = (0, 0, 0)
+    sim.velocities[:] = 0.0
     sim.step(3)
-    assert sim.stats["estimates"] == 1 + 3  # online: once per step
+    assert sim.stats["estimates"] == 2
+    # ... and a new one as soon as one has.
+    shortest = body.rest_lengths.min()
+    free = np.setdiff1d(np.arange(len(body.nodes)), pinned)[0]
+    sim.positions[free, 0] += 0.06 * shortest
+    sim.step(1)
+    assert sim.stats["estimates"] == 3
+    sim.gravity = (0, 0, -9.81)
     # Loads change between frames and act.
     top = np.flatnonzero(np.isclose(body.nodes[:, 2], 0.5))
     before = sim.positions[top, 2].mean()

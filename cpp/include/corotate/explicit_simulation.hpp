@@ -11,8 +11,10 @@
 //     K <= L_k (x) I of mass_spring.hpp, estimated once (again when the pinned set changes);
 //     safe for every configuration the springs can reach, so it never needs updating.
 //   - Online policy: the linearised system at the current positions, re-estimated at the
-//     start of every step (every frame), as the configuration changes; larger steps,
-//     one Lanczos run (up to 80 matrix-vector products) per step.
+//     start of a step whenever some node has moved more than 5 % of the shortest spring's
+//     rest length since the last estimate (the spring Hessians, and with them w, change
+//     little below that); larger steps, one Lanczos run (up to 80 matrix-vector products)
+//     per re-estimate.
 // A step that produces non-finite positions or velocities throws SolverFailure and the
 // state of before the call is restored; it never returns NaN.
 #pragma once
@@ -83,7 +85,7 @@ class ExplicitSimulation {
   const ExplicitSettings& settings() const { return settings_; }
 
   // The estimate the next step uses (computed now if stale: Fixed policy after a change of
-  // the pinned set; Online policy always, at the current positions).
+  // the pinned set; Online policy when the configuration moved, see above).
   const StabilityEstimate& stability();
   // A fresh estimate: of the configuration-independent bound, or of the linearised system
   // at the current positions. Does not change what the steps use.
@@ -111,6 +113,8 @@ class ExplicitSimulation {
   std::vector<Index> fixed_nodes_;
   StabilityEstimate stability_;
   bool stability_stale_ = true;
+  Nodes x_at_estimate_;          // positions of the last online estimate
+  double online_tolerance_ = 0;  // node movement that triggers a new online estimate
   double time_ = 0;
   ExplicitStats stats_;
 };
