@@ -102,7 +102,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "(PNG needs matplotlib: pip install 'corotate[plot]').")
     scenes.add_argument("scene", nargs="?", default="all", choices=["all", "cloth", "cube"], help="which scene (default all)")
     scenes.add_argument("--out", default="corotate-scenes", help="output folder (default: corotate-scenes)")
-    scenes.add_argument("--frames", type=int, default=120, help="frames of 1/60 s (default 120)")
+    scenes.add_argument("--frames", type=int, default=240, help="frames of 1/60 s (default 240)")
     scenes.add_argument("--cloth-size", type=int, default=32, help="cloth particles per side (default 32)")
     scenes.add_argument("--cube-cells", type=int, default=6, help="cube lattice cells per side (default 6)")
     scenes.add_argument("--integrator", default="verlet", choices=["verlet", "symplectic_euler"], help="explicit integrator")
