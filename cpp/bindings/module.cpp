@@ -213,12 +213,15 @@ PYBIND11_MODULE(_core, m) {
         "positions, needed by the two_level preconditioner. Returns (x, stats).");
 
   py::class_<ImplicitEulerSettings>(m, "ImplicitEulerSettings")
-      .def(py::init([](double dt, double alpha, double beta, bool lumped) {
-             ImplicitEulerSettings s{dt, alpha, beta, lumped};
+      .def(py::init([](double dt, double alpha, double beta, bool lumped, int newton_iterations, double newton_tolerance) {
+             ImplicitEulerSettings s{dt, alpha, beta, lumped, newton_iterations, newton_tolerance};
              s.validate();
              return s;
            }),
-           py::arg("time_step"), py::arg("rayleigh_alpha") = 0.0, py::arg("rayleigh_beta") = 0.0, py::arg("lumped_mass") = false)
+           py::arg("time_step"), py::arg("rayleigh_alpha") = 0.0, py::arg("rayleigh_beta") = 0.0, py::arg("lumped_mass") = false,
+           py::arg("newton_iterations") = 0, py::arg("newton_tolerance") = 1e-6)
+      .def_readonly("newton_iterations", &ImplicitEulerSettings::newton_iterations)
+      .def_readonly("newton_tolerance", &ImplicitEulerSettings::newton_tolerance)
       .def_readonly("time_step", &ImplicitEulerSettings::time_step)
       .def_readonly("rayleigh_alpha", &ImplicitEulerSettings::rayleigh_alpha)
       .def_readonly("rayleigh_beta", &ImplicitEulerSettings::rayleigh_beta)
@@ -264,6 +267,8 @@ PYBIND11_MODULE(_core, m) {
         py::dict d;
         d["steps"] = st.steps;
         d["iterations"] = st.last.solve.iterations;
+        d["newton_iterations"] = st.last.newton_iterations;
+        d["newton_residuals"] = st.last.newton_residuals;
         d["residual"] = st.last.solve.relative_residual;
         d["converged"] = st.last.solve.converged;
         d["iterations_per_step"] = st.iterations_per_step();

@@ -15,6 +15,11 @@ void ImplicitEulerSettings::validate() const {
   if (!(time_step > 0) || !std::isfinite(time_step)) throw InvalidInput("time step must be positive and finite, got dt = " + std::to_string(time_step));
   if (!(rayleigh_alpha >= 0) || !std::isfinite(rayleigh_alpha)) throw InvalidInput("Rayleigh alpha must be >= 0");
   if (!(rayleigh_beta >= 0) || !std::isfinite(rayleigh_beta)) throw InvalidInput("Rayleigh beta must be >= 0");
+  if (newton_iterations < 0) throw InvalidInput("newton_iterations must be >= 0 (0: linearised step)");
+  if (newton_iterations > 0 && rayleigh_beta != 0)
+    throw InvalidInput("stiffness-proportional (Rayleigh beta) damping is not a potential: the Newton step supports "
+                       "mass-proportional damping (alpha) only");
+  if (newton_iterations > 0 && !(newton_tolerance > 0)) throw InvalidInput("newton_tolerance must be positive");
 }
 
 ImplicitEuler::ImplicitEuler(ForceModel& model, const ImplicitEulerSettings& settings)
@@ -25,6 +30,8 @@ ImplicitEuler::ImplicitEuler(ForceModel& model, const ImplicitEulerSettings& set
   const Index n = model.num_nodes();
   force_.resize(3, n);
   y_.resize(3, n);
+  trial_.resize(3, n);
+  target_.resize(3, n);
   rhs_.setZero(3 * n);
   dv_.setZero(3 * n);
   work_.setZero(3 * n);
@@ -32,6 +39,7 @@ ImplicitEuler::ImplicitEuler(ForceModel& model, const ImplicitEulerSettings& set
 
 StepStats ImplicitEuler::step(const Nodes& x, const Nodes& v, const Nodes& f_ext, const FixedDofs& fixed,
                               LinearSolver& solver, Nodes& x_new, Nodes& v_new) {
+  if (settings_.newton_iterations > 0) return newton_step(x, v, f_ext, fixed, solver, x_new, v_new);
   using clock = std::chrono::steady_clock;
   StepStats stats;
   const auto t_start = clock::now();

@@ -8,20 +8,27 @@ from .body import Body
 from .solvers import PCG, Direct
 
 MASS_KINDS = ("consistent", "lumped")
+INTEGRATORS = ("linearized", "newton")
 
 
 class Simulation:
-    """Implicit (linearised backward Euler) simulation of one body.
+    """Implicit (backward Euler) simulation of one body.
 
-    body       Body
-    dt         time step [s]
-    solver     PCG(...) (default PCG()) or Direct()
-    gravity    (3,) acceleration [m/s^2], default (0, 0, 0)
-    mass       "consistent" (default; the better choice for implicit steps) or "lumped"
-    rayleigh   (alpha, beta): damping C = alpha M + beta K, default (0, 0)
+    body        Body
+    dt          time step [s]
+    solver      PCG(...) or Direct(); default PCG() for "linearized", Direct() for "newton"
+    gravity     (3,) acceleration [m/s^2], default (0, 0, 0)
+    mass        "consistent" (default; the better choice for implicit steps) or "lumped"
+    rayleigh    (alpha, beta): damping C = alpha M + beta K, default (0, 0)
+    integrator  "linearized" (default): each step solves
+                (M + dt C + dt^2 K) dv = dt (f + f_ext) - (dt C + dt^2 K) v once, with K the
+                stiffness at the start of the step (Baraff & Witkin; the paper's scheme);
+                "newton": each step minimises the incremental potential by Newton iterations
+                with a backtracking line search until the gradient is below newton_tolerance
+                (relative to the loads and momentum); beta must be 0 then.
+    newton_iterations, newton_tolerance   limits of the "newton" integrator (20, 1e-6)
 
-    Each step solves (M + dt C + dt^2 K) dv = dt (f + f_ext) - (dt C + dt^2 K) v once, with
-    K the rotated stiffness at the start of the step (see cpp/.../implicit_euler.hpp).
+    See cpp/include/corotate/integrators/implicit_euler.hpp for the derivations.
 
     positions, velocities and external_forces are (n, 3) float64 NumPy views of the state
     held in C++: no copies. Write into them between steps to move fixed nodes or apply
@@ -29,19 +36,27 @@ class Simulation:
     """
 
     def __init__(self, body: Body, dt: float = 0.01, solver=None, gravity=(0.0, 0.0, 0.0),
-                 mass: str = "consistent", rayleigh=(0.0, 0.0)):
+                 mass: str = "consistent", rayleigh=(0.0, 0.0), integrator: str = "linearized",
+                 newton_iterations: int = 20, newton_tolerance: float = 1e-6):
         if not isinstance(body, Body):
             raise TypeError("body must be a corotate.Body")
         if mass not in MASS_KINDS:
             raise ValueError(f"unknown mass {mass!r}; choose 'consistent' or 'lumped'")
-        solver = PCG() if solver is None else solver
+        if integrator not in INTEGRATORS:
+            raise ValueError(f"unknown integrator {integrator!r}; choose 'linearized' or 'newton'")
+        if integrator == "newton" and int(newton_iterations) < 1:
+            raise ValueError(f"newton_iterations must be at least 1, got {newton_iterations}")
+        if solver is None:
+            solver = Direct() if integrator == "newton" else PCG()
         if not isinstance(solver, (PCG, Direct)):
             raise TypeError("solver must be corotate.PCG(...) or corotate.Direct()")
         alpha, beta = (float(v) for v in rayleigh)
         self.body = body
         self.solver = solver
         mesh = body.mesh
-        settings = _core.ImplicitEulerSettings(float(dt), alpha, beta, mass == "lumped")
+        settings = _core.ImplicitEulerSettings(float(dt), alpha, beta, mass == "lumped",
+                                               int(newton_iterations) if integrator == "newton" else 0,
+                                               float(newton_tolerance))
         kind, pcg = solver._args()
         self._sim = _core.Simulation(body.model, mesh.cell_type, mesh.points, mesh.cells, body.material._core(),
                                      settings, kind, pcg)
@@ -146,7 +161,8 @@ class Simulation:
 
     @property
     def stats(self) -> dict:
-        """Statistics: last step's CG iterations, residual, phase times [ms]; and over all
+        """Statistics: last step's CG iterations, residual, phase times [ms], Newton iterations
+        and relative gradient norms ("newton" integrator); and over all
         steps since reset_stats(): steps, iterations_per_step, ms_per_step,
         simulated_time, wall_time [s] and real_time_ratio (simulated / wall time)."""
         return self._sim.stats

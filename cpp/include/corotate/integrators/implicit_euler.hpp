@@ -10,9 +10,21 @@
 // and the right-hand side is b = dt (f(x) + f_ext) - (A - M) v.
 // Then v <- v + dv and x <- x + dt v (the new velocity: the step is implicit in both).
 // Fixed DOFs keep dv = 0 by projection (see FixedDofs).
+//
+// With newton_iterations > 0 the step is instead solved to convergence: backward Euler is
+// the minimiser of the incremental potential
+//     Phi(x) = 1/(2 dt^2) |x - x_n - dt v_n|_M^2 + alpha/(2 dt) |x - x_n|_M^2 + E(x) - f_ext.x,
+// whose gradient is M (x - x_n - dt v_n)/dt^2 + alpha M (x - x_n)/dt - f(x) - f_ext and whose
+// Hessian is (1/dt^2 + alpha/dt) M + K(x). Each Newton iteration solves Hessian dx = -gradient
+// and backtracks along dx until Phi decreases enough (Armijo), so the step cannot blow up
+// where the linearisation is poor (large rotations, hyperelastic models near inversion).
+// It stops when |gradient| <= newton_tolerance * max(|f_ext| + |M v_n| / dt, |f(x_n)|) on the
+// free DOFs;
+// then v = (x - x_n) / dt. Stiffness-proportional damping is not a potential and is refused.
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "corotate/fem/fixed_dofs.hpp"
 #include "corotate/models/force_model.hpp"
@@ -25,11 +37,15 @@ struct ImplicitEulerSettings {
   double rayleigh_alpha = 0.0;  // mass-proportional damping [1/s]
   double rayleigh_beta = 0.0;   // stiffness-proportional damping [s]
   bool lumped_mass = false;     // consistent mass is the better choice for implicit steps
+  int newton_iterations = 0;    // 0: linearised, one solve per step; > 0: Newton, at most this many
+  double newton_tolerance = 1e-6;  // relative gradient norm at which Newton stops
   void validate() const;
 };
 
 struct StepStats {
-  SolveStats solve;
+  SolveStats solve;                 // of the last linear solve (iterations: summed over Newton)
+  int newton_iterations = 0;        // 0 for the linearised step
+  std::vector<double> newton_residuals;  // relative gradient norm before each Newton iteration
   double rotation_ms = 0, assembly_ms = 0, solve_ms = 0, total_ms = 0;
 };
 
@@ -49,6 +65,11 @@ class ImplicitEuler {
                  Nodes& x_new, Nodes& v_new);
 
  private:
+  StepStats newton_step(const Nodes& x, const Nodes& v, const Nodes& f_ext, const FixedDofs& fixed,
+                        LinearSolver& solver, Nodes& x_new, Nodes& v_new);
+  // Phi(y) for the Newton step (updates the model's state to y).
+  double incremental_potential(const Nodes& y, const Nodes& x, const Nodes& inertia_target, const Nodes& f_ext);
+
   ForceModel& model_;
   ImplicitEulerSettings settings_;
   BlockSparseMatrix mass_;    // M in the model's pattern
@@ -56,6 +77,7 @@ class ImplicitEuler {
   Nodes force_;               // f(x) + f_ext
   Nodes y_;                   // x + (dt + beta) v
   Vec rhs_, dv_, work_;
+  Nodes trial_, target_;      // Newton: line-search point, x_n + dt v_n
 };
 
 }  // namespace corotate
