@@ -248,13 +248,20 @@ PYBIND11_MODULE(_core, m) {
       .def("set_solver", [](Simulation& s, const std::string& solver, const PCGSettings& pcg) { s.set_solver(make_solver(solver, pcg)); },
            py::arg("solver"), py::arg("pcg") = PCGSettings{})
       .def("step", &Simulation::step, py::arg("n") = 1, py::call_guard<py::gil_scoped_release>())
-      .def("solve_static", [](Simulation& s, int load_steps, double tolerance, int max_iterations) {
-        const StaticResult r = s.solve_static({load_steps, tolerance, max_iterations});
+      .def("solve_static", [](Simulation& s, int load_steps, double tolerance, int max_iterations,
+                              const std::optional<PointsIn>& prescribed) {
+        std::optional<Nodes> target;
+        if (prescribed) {
+          target = nodes_from(*prescribed, "prescribed positions");
+          if (target->cols() != s.num_nodes()) throw InvalidInput("prescribed positions must have one row per node");
+        }
+        const StaticResult r = s.solve_static({load_steps, tolerance, max_iterations}, target ? &*target : nullptr);
         py::dict d;
         d["residual_history"] = r.residual_history;
         d["iterations"] = r.total_iterations;
         return d;
-      }, py::arg("load_steps") = 1, py::arg("tolerance") = 1e-8, py::arg("max_iterations") = 100)
+      }, py::arg("load_steps") = 1, py::arg("tolerance") = 1e-8, py::arg("max_iterations") = 100,
+         py::arg("prescribed") = py::none())
       .def("internal_forces", [](Simulation& s) {
         s.model().update(s.positions());
         Nodes f = Nodes::Zero(3, s.num_nodes());

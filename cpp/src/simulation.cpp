@@ -120,13 +120,13 @@ void Simulation::step(int n) {
   }
 }
 
-StaticResult Simulation::solve_static(const StaticSettings& settings) {
+StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed) {
   check_finite_state();
   const Nodes x_before = x_;
   load_ = f_ext_ + gravity_forces_;
   DirectSolver direct;
   try {
-    StaticResult result = corotate::solve_static(*model_, x_, load_, fixed_, settings, direct);
+    StaticResult result = corotate::solve_static(*model_, x_, load_, fixed_, settings, direct, prescribed);
     v_.setZero();
     integrator_->reset_warm_start();
     return result;

@@ -1,6 +1,7 @@
 #include "corotate/statics/static_solver.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace corotate {
@@ -12,34 +13,48 @@ void StaticSettings::validate() const {
 }
 
 StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const FixedDofs& fixed,
-                          const StaticSettings& settings, LinearSolver& solver) {
+                          const StaticSettings& settings, LinearSolver& solver, const Nodes* prescribed) {
   settings.validate();
   const Index n = model.num_nodes();
-  Nodes residual(3, n);
+  if (prescribed && (prescribed->cols() != n || !prescribed->allFinite()))
+    throw InvalidInput("static solve: prescribed positions must be finite, one column per node");
+  Nodes residual(3, n), trial(3, n);
   Vec r(3 * n), dx = Vec::Zero(3 * n);
   BlockSparseMatrix K = model.pattern();
   solver.reset();
+  const Nodes start = x;  // fixed DOFs move from here to the prescribed positions
+
+  // r(y) = f_int(y) + lambda * load on the free DOFs.
+  auto evaluate = [&](const Nodes& y, double lambda, BlockSparseMatrix* stiffness) {
+    model.update(y);
+    residual = lambda * load;
+    if (stiffness) {
+      stiffness->set_zero();
+      model.add_linearized_forces_and_stiffness(y, residual, 1.0, *stiffness);  // at y itself: f(y)
+    } else {
+      model.add_forces(y, residual);
+    }
+    r = as_dofs(residual);
+    fixed.project(r);
+    return r.norm();
+  };
 
   Vec free_load = as_dofs(load);
   fixed.project(free_load);
-  // Reference size for the tolerance: the load, or, for pure prescribed displacement, the
-  // first residual.
+  // Reference size for the tolerance: the load, or, under pure displacement control, the
+  // first residual scaled to the whole displacement.
   double reference = free_load.norm();
 
   StaticResult result;
   for (int s = 1; s <= settings.load_steps; ++s) {
     const double lambda = double(s) / settings.load_steps;
+    if (prescribed)
+      for (Index d : fixed.list()) as_dofs(x)[d] = as_dofs(start)[d] + lambda * (as_dofs(*prescribed)[d] - as_dofs(start)[d]);
     auto& history = result.residual_history.emplace_back();
     for (int it = 0;; ++it) {
-      model.update(x);
-      residual = lambda * load;
-      K.set_zero();
-      model.add_linearized_forces_and_stiffness(x, residual, 1.0, K);  // at y = x: f(x)
-      r = as_dofs(residual);
-      fixed.project(r);
-      const double r_norm = r.norm();
+      const double r_norm = evaluate(x, lambda, &K);
       if (!std::isfinite(r_norm)) throw SolverFailure("static solve: the residual became non-finite (elements collapsed?)");
-      if (reference == 0) reference = r_norm > 0 ? r_norm : 1.0;
+      if (reference == 0) reference = r_norm > 0 ? r_norm * settings.load_steps : 1.0;
       history.push_back(r_norm / reference);
       if (r_norm <= settings.tolerance * reference) break;
       if (it == settings.max_iterations) {
@@ -51,9 +66,19 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
         throw SolverFailure(msg.str());
       }
       fixed.project(K);
+      const Vec rhs = r;
       dx.setZero();
-      solver.solve(K, r, dx);
-      as_dofs(x) += dx;
+      solver.solve(K, rhs, dx);
+      // Guard against blow-up: with the R K R^T tangent the residual may rise for an
+      // iteration and still converge, so only a step that makes it non-finite or ten times
+      // larger is halved (a strict descent rule on |r| stalls those iterations).
+      double step = 1.0;
+      for (int ls = 0; ls < 12; ++ls, step *= 0.5) {
+        as_dofs(trial) = as_dofs(x) + step * dx;
+        const double trial_norm = evaluate(trial, lambda, nullptr);
+        if (std::isfinite(trial_norm) && trial_norm <= 10 * r_norm) break;
+      }
+      as_dofs(x) += step * dx;
       ++result.total_iterations;
     }
   }

@@ -136,15 +136,23 @@ class Simulation:
         left exactly as it was before the call."""
         self._sim.step(int(n))
 
-    def solve_static(self, load_steps: int = 1, tolerance: float = 1e-8, max_iterations: int = 100) -> dict:
+    def solve_static(self, load_steps: int = 1, tolerance: float = 1e-8, max_iterations: int = 100,
+                     prescribed=None) -> dict:
         """Move the body to static equilibrium under external forces and gravity.
 
-        Newton iterations with load_steps equal load increments (fixed nodes keep their
-        positions, so moving them first prescribes displacements). Velocities become zero.
-        Returns {"residual_history": [[...] per load step], "iterations": total}.
-        Raises RuntimeError with the residuals, and restores the state, if it does not
-        converge."""
-        return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations))
+        Newton iterations (a step that would blow the residual up is halved), with
+        load_steps equal load increments. Fixed nodes keep their positions, or, with
+        prescribed ((n, 3) positions of which the fixed nodes' rows are used), move to those
+        in the same increments (displacement control). Velocities become zero.
+        Returns {"residual_history": [[...] per load step], "iterations": total}: residual
+        norms on the free DOFs relative to the load (or, under pure displacement control, to
+        the first residual times load_steps). Raises RuntimeError with the residuals, and
+        restores the state, if it does not converge."""
+        if prescribed is not None:
+            prescribed = np.ascontiguousarray(prescribed, dtype=np.float64)
+            if prescribed.shape != (self.body.n_nodes, 3):
+                raise ValueError(f"prescribed must have shape ({self.body.n_nodes}, 3), got {prescribed.shape}")
+        return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations), prescribed)
 
     def internal_forces(self) -> np.ndarray:
         """(n, 3) internal elastic forces at the current positions."""

@@ -52,8 +52,10 @@ class Simulation {
   void step(int n = 1);
 
   // Static equilibrium under external forces and gravity; velocities become zero.
-  // Throws SolverFailure and restores the state when it does not converge.
-  StaticResult solve_static(const StaticSettings& settings);
+  // prescribed (3 x n, optional): end positions of the fixed nodes, reached in the load steps
+  // (displacement control). Throws SolverFailure and restores the state when it does not
+  // converge.
+  StaticResult solve_static(const StaticSettings& settings, const Nodes* prescribed = nullptr);
 
   // Total force the body's mass feels from gravity (M * g per DOF, with the active mass).
   const Nodes& gravity_forces() const { return gravity_forces_; }

@@ -2,7 +2,10 @@
 // stepping: the load is applied in equal increments, each solved to the tolerance before
 // the next. Each iteration solves K(x) dx = f_int(x) + lambda * load with fixed DOFs held.
 //
-// For LinearFEM one iteration is exact. For CorotationalFEM the tangent is R K_e R^T without
+// A Newton step that would make the residual non-finite or ten times larger is halved.
+// Displacement control: with `prescribed` given, the fixed DOFs move in the same load steps
+// from their positions on entry to the prescribed ones, so large prescribed displacements
+// are reached gradually too. For LinearFEM one iteration is exact. For CorotationalFEM the tangent is R K_e R^T without
 // the derivative of the rotations, so iterations converge linearly rather than quadratically;
 // load steps keep every increment inside the region where that converges.
 #pragma once
@@ -29,10 +32,11 @@ struct StaticResult {
 };
 
 // x: 3 x n positions, start of the iteration on entry and equilibrium on exit; fixed DOFs
-// keep their values in x (prescribed displacements). load: 3 x n external nodal forces.
+// keep their values in x, or, with prescribed (3 x n, only fixed DOFs read), end at those.
+// load: 3 x n external nodal forces.
 // Throws SolverFailure (with the residuals) when a load step does not converge; x is then
 // left at the last iterate, so callers that need the old state must keep a copy.
 StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const FixedDofs& fixed,
-                          const StaticSettings& settings, LinearSolver& solver);
+                          const StaticSettings& settings, LinearSolver& solver, const Nodes* prescribed = nullptr);
 
 }  // namespace corotate
