@@ -17,6 +17,7 @@ namespace py = pybind11;
 using namespace corotate;
 
 void bind_mass_spring(py::module_& m);  // mass_spring_bindings.cpp
+void bind_hyperelastic(py::module_& m);  // hyperelastic_bindings.cpp
 
 namespace {
 
@@ -291,4 +292,5 @@ PYBIND11_MODULE(_core, m) {
       .def("reset_stats", &Simulation::reset_stats);
 
   bind_mass_spring(m);  // after ForceModel, which MassSpring derives from
+  bind_hyperelastic(m);  // after ForceModel, which it returns
 }

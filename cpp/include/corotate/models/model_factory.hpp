@@ -9,9 +9,18 @@
 
 namespace corotate {
 
-// model: "linear" or "corotational"; cell_type: "tetra", "hexahedron" or "hexahedron20"
-// (VTK/meshio names). rest: 3 x n; cells: m x k node indices.
+// Settings that only some models use.
+struct ModelOptions {
+  double thickness = 1.0;    // sheet thickness [m] of "triangle" cells (membranes); ignored for solids
+  bool project_psd = false;  // hyperelastic models: project each element stiffness to PSD (implicit solves)
+};
+
+// model: "linear", "corotational" (co-rotated linear FEM), or the hyperelastic models "stvk"
+// (St. Venant-Kirchhoff), "neohookean" (stable Neo-Hookean) and "corotated" (fixed
+// co-rotated); cell_type: "tetra", "hexahedron", "hexahedron20" (all models) or "triangle"
+// (membrane sheets, "stvk" only) (VTK/meshio names). rest: 3 x n; cells: m x k node indices.
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
-                                       const Connectivity& cells, const Material& material);
+                                       const Connectivity& cells, const Material& material,
+                                       const ModelOptions& options = ModelOptions());
 
 }  // namespace corotate

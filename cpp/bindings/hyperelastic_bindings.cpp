@@ -1,0 +1,93 @@
+// pybind11 glue for the hyperelastic models (corotate._core): a model factory with the
+// options only these models take (sheet thickness, PSD projection), the initial-stress
+// stiffness, and the constitutive laws on their own (for tests). Nothing but conversions;
+// InvalidInput becomes ValueError.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "corotate/materials/fixed_corotated.hpp"
+#include "corotate/materials/stable_neo_hookean.hpp"
+#include "corotate/materials/stvk.hpp"
+#include "corotate/models/geometric_stiffness.hpp"
+#include "corotate/models/model_factory.hpp"
+
+namespace py = pybind11;
+using namespace corotate;
+
+namespace {
+
+using PointsIn = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using CellsIn = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+
+Nodes nodes_from(const PointsIn& points, const char* what) {
+  if (points.ndim() != 2 || points.shape(1) != 3) throw InvalidInput(std::string(what) + " must have shape (n, 3)");
+  Nodes x(3, points.shape(0));
+  std::copy(points.data(), points.data() + points.size(), x.data());
+  return x;
+}
+
+Connectivity cells_from(const CellsIn& cells) {
+  if (cells.ndim() != 2) throw InvalidInput("cells must have shape (m, nodes_per_cell)");
+  Connectivity c(cells.shape(0), cells.shape(1));
+  for (py::ssize_t k = 0; k < cells.size(); ++k) {
+    const long long v = cells.data()[k];
+    if (v < 0 || v > std::numeric_limits<int>::max())
+      throw InvalidInput("cell " + std::to_string(k / cells.shape(1)) + " refers to node " + std::to_string(v) + ", out of range");
+    c.data()[k] = static_cast<int>(v);
+  }
+  return c;
+}
+
+py::tuple to_csr(const BlockSparseMatrix& A) {
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> s;
+  A.copy_to(s);  // symmetric: the CSC arrays are also the CSR arrays
+  Eigen::VectorXd data = Eigen::Map<const Eigen::VectorXd>(s.valuePtr(), s.nonZeros());
+  Eigen::VectorXi indices = Eigen::Map<const Eigen::VectorXi>(s.innerIndexPtr(), s.nonZeros());
+  Eigen::VectorXi indptr = Eigen::Map<const Eigen::VectorXi>(s.outerIndexPtr(), s.outerSize() + 1);
+  return py::make_tuple(data, indices, indptr);
+}
+
+template <class Law>
+py::tuple evaluate_law(const Law& law, const Mat3& F) {
+  return py::make_tuple(law.energy(F), Mat3(law.stress(F)), Eigen::MatrixXd(law.tangent(F)));
+}
+
+}  // namespace
+
+void bind_hyperelastic(py::module_& m) {
+  m.def("make_force_model", [](const std::string& model, const std::string& cell_type, const PointsIn& points,
+                               const CellsIn& cells, const Material& material, double thickness, bool project_psd) {
+    return make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells), material,
+                      ModelOptions{thickness, project_psd});
+  }, py::arg("model"), py::arg("cell_type"), py::arg("points"), py::arg("cells"), py::arg("material"),
+        py::arg("thickness") = 1.0, py::arg("project_psd") = false,
+        "ForceModel by name with the options of the hyperelastic models: thickness of triangle sheets [m],\n"
+        "project_psd (clamp each element stiffness to positive semi-definite).");
+
+  m.def("geometric_stiffness_csr", [](ForceModel& model, const PointsIn& positions) {
+    const auto* g = dynamic_cast<const GeometricStiffness*>(&model);
+    if (!g)
+      throw InvalidInput(std::string("the '") + model.name() +
+                         "' model has no separate geometric stiffness (use 'stvk', 'neohookean' or 'corotated')");
+    const Nodes x = nodes_from(positions, "positions");
+    if (x.cols() != model.num_nodes()) throw InvalidInput("positions must have one row per node");
+    if (Index i = first_non_finite_node(x); i >= 0) throw InvalidInput("position of node " + std::to_string(i) + " is not finite");
+    BlockSparseMatrix K = model.pattern();
+    K.set_zero();
+    g->add_geometric_stiffness(x, 1.0, K);
+    return to_csr(K);
+  }, py::arg("model"), py::arg("positions"),
+        "Initial-stress stiffness K_sigma at positions (n, 3) as a CSR triple (data, indices, indptr).");
+
+  m.def("constitutive_law", [](const std::string& law, const Mat3& F, const Material& material) {
+    const double lambda = material.lame_lambda(), mu = material.lame_mu();
+    if (law == StVK::name) return evaluate_law(StVK{lambda, mu}, F);
+    if (law == StableNeoHookean::name) return evaluate_law(StableNeoHookean{lambda, mu}, F);
+    if (law == FixedCorotated::name) return evaluate_law(FixedCorotated{lambda, mu}, F);
+    throw InvalidInput("unknown constitutive law '" + law + "' (choose 'stvk', 'neohookean' or 'corotated')");
+  }, py::arg("law"), py::arg("F"), py::arg("material"),
+        "(W, P, dP/dF) of a law at the 3x3 deformation gradient F: energy density, first Piola-Kirchhoff\n"
+        "stress (3x3) and its derivative (9x9, column-major vec: index i + 3j for F[i, j]).");
+}
