@@ -321,8 +321,8 @@ def test_unknown_model_and_preconditioner():
     mesh = cr.box((1, 1, 1), (1, 1, 1), "tet4")
     with pytest.raises(ValueError, match="unknown model 'neo-hookean'.*corotational, linear"):
         cr.Body(mesh, MAT, model="neo-hookean")
-    with pytest.raises(ValueError, match="unknown model 'stvk'"):
-        _core.ForceModel("stvk", "tetra", mesh.points, mesh.cells, MAT._core())
+    with pytest.raises(ValueError, match="unknown model 'mooney-rivlin'"):
+        _core.ForceModel("mooney-rivlin", "tetra", mesh.points, mesh.cells, MAT._core())
     body = cr.Body(mesh, MAT)
     with pytest.raises(ValueError, match="unknown preconditioner 'ilu'"):
         cr.Simulation(body, solver=cr.PCG(preconditioner="ilu"))

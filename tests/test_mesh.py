@@ -165,8 +165,8 @@ def test_mesh_rejects_bad_shapes_and_types():
         Mesh(np.zeros((4, 2)), [[0, 1, 2, 3]], "tetra")
     with pytest.raises(ValueError, match=r"must have shape \(m, 8\)"):
         Mesh(unit_tet().points, [[0, 1, 2, 3]], "hexahedron")
-    with pytest.raises(ValueError, match="unsupported cell type 'triangle'.*tetra, hexahedron, hexahedron20"):
-        Mesh(unit_tet().points, [[0, 1, 2]], "triangle")
+    with pytest.raises(ValueError, match="unsupported cell type 'quad'.*tetra, hexahedron, hexahedron20"):
+        Mesh(unit_tet().points, [[0, 1, 2, 3]], "quad")
 
 
 def test_node_selection():

@@ -11,7 +11,7 @@ tet/hex mesh) stepped explicitly with a safe time step (MassSpringBody, Explicit
     sim.fix(mesh.nodes_on_plane("x", 0.0))
     sim.step(5)
 """
-from .mesh import Mesh, beam, box, read_mesh, write_mesh
+from .mesh import Mesh, beam, box, rectangle, read_mesh, write_mesh
 from .output import TimeSeriesWriter
 from .material import Material
 from .body import Body
@@ -20,6 +20,6 @@ from .simulation import Simulation
 from .mass_spring import MassSpringBody, SpringGeometry
 from .explicit import ExplicitSimulation
 
-__all__ = ["Mesh", "beam", "box", "read_mesh", "write_mesh", "TimeSeriesWriter", "Material", "Body", "PCG",
+__all__ = ["Mesh", "beam", "box", "rectangle", "read_mesh", "write_mesh", "TimeSeriesWriter", "Material", "Body", "PCG",
            "Direct", "Simulation", "MassSpringBody", "SpringGeometry", "ExplicitSimulation"]
 __version__ = "0.1.0"

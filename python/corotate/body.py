@@ -8,7 +8,9 @@ from . import _core
 from .material import Material
 from .mesh import Mesh
 
-MODELS = ("corotational", "linear")
+MODELS = ("corotational", "linear", "stvk", "neohookean", "corotated")
+#: Models that are full geometrically nonlinear (hyperelastic, total Lagrangian).
+HYPERELASTIC_MODELS = ("stvk", "neohookean", "corotated")
 
 
 def _csr(triple, n_dofs: int) -> sp.csr_matrix:
@@ -19,26 +21,48 @@ def _csr(triple, n_dofs: int) -> sp.csr_matrix:
 class Body:
     """A mesh of one cell type with a material and a force model.
 
-    mesh      Mesh (tetra, hexahedron or hexahedron20 cells)
+    mesh      Mesh (tetra, hexahedron or hexahedron20 cells; triangle cells for sheets)
     material  Material
-    model     "corotational" (per-element rotation, eqs 3-4 of the paper; default) or
-              "linear" (small-displacement FEM, f = -K (x - X))
+    model     "corotational" (per-element rotation, eqs 3-4 of the paper; default),
+              "linear" (small-displacement FEM, f = -K (x - X)), or a full nonlinear
+              (hyperelastic, total-Lagrangian) model with exact tangent stiffness:
+              "stvk" (St. Venant-Kirchhoff, W = mu E:E + lambda/2 tr(E)^2, E the Green
+              strain), "neohookean" (stable Neo-Hookean of Smith et al. 2018, defined and
+              finite for inverted elements) or "corotated" (fixed co-rotated, Stomakhin et
+              al. 2012). All five agree at small strain (same stiffness at rest).
+    thickness sheet thickness [m] for triangle meshes (required there; membranes support
+              model="stvk" only, with plane-stress Lame parameters). Not for solids.
+    project_psd  hyperelastic models: project each element stiffness onto the nearest
+              positive semi-definite matrix (for implicit solves of compressed or inverted
+              states); the stiffness is then no longer the exact Hessian there.
 
     Element matrices are computed when the body is created; degenerate or inverted
-    elements raise ValueError naming the element.
+    elements (zero-area triangles) raise ValueError naming the element.
     """
 
-    def __init__(self, mesh: Mesh, material: Material, model: str = "corotational"):
+    def __init__(self, mesh: Mesh, material: Material, model: str = "corotational", thickness=None,
+                 project_psd: bool = False):
         if not isinstance(mesh, Mesh):
             raise TypeError("mesh must be a corotate.Mesh (see corotate.read_mesh, corotate.box)")
         if not isinstance(material, Material):
             raise TypeError("material must be a corotate.Material")
         if model not in MODELS:
             raise ValueError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
+        if mesh.cell_type == "triangle":
+            if thickness is None:
+                raise ValueError("a triangle (sheet) mesh needs thickness=... [m]")
+            thickness = float(thickness)
+        elif thickness is not None:
+            raise ValueError(f"thickness applies to triangle sheets only, not to {mesh.cell_type!r} cells")
+        if project_psd and model not in HYPERELASTIC_MODELS:
+            raise ValueError(f"project_psd applies to the hyperelastic models {HYPERELASTIC_MODELS}, not {model!r}")
         self.mesh = mesh
         self.material = material
         self.model = model
-        self._force_model = _core.ForceModel(model, mesh.cell_type, mesh.points, mesh.cells, material._core())
+        self.thickness = thickness
+        self.project_psd = bool(project_psd)
+        self._force_model = _core.make_force_model(model, mesh.cell_type, mesh.points, mesh.cells, material._core(),
+                                                   1.0 if thickness is None else thickness, self.project_psd)
 
     @property
     def n_nodes(self) -> int:
@@ -55,9 +79,19 @@ class Body:
     def stiffness_matrix(self, positions=None) -> sp.csr_matrix:
         """Stiffness K (3n x 3n, DOF = 3*node + axis) at positions (default: rest).
 
-        For the co-rotational model this is the rotated stiffness sum R_e K_e R_e^T."""
+        For the co-rotational model this is the rotated stiffness sum R_e K_e R_e^T; for the
+        hyperelastic models the exact Hessian of the energy (element-wise PSD-projected with
+        project_psd)."""
         x = self.mesh.points if positions is None else self._check_positions(positions)
         return _csr(self._force_model.stiffness_csr(x), 3 * self.n_nodes)
+
+    def geometric_stiffness(self, positions) -> sp.csr_matrix:
+        """Initial-stress (geometric) stiffness K_sigma at positions (n, 3), hyperelastic models.
+
+        K_sigma has blocks sum_q w_q (G_a^T S G_b) I_3 (S the second Piola-Kirchhoff stress,
+        G_a = dN_a/dX at quadrature point q), the stress part of K_T = K_0 + K_u + K_sigma
+        (paper eq. 6). Raises ValueError for "linear" and "corotational"."""
+        return _csr(_core.geometric_stiffness_csr(self._force_model, self._check_positions(positions)), 3 * self.n_nodes)
 
     def mass_matrix(self, lumped: bool = False) -> sp.csr_matrix:
         """Consistent (default) or lumped mass matrix (3n x 3n)."""

@@ -17,6 +17,9 @@ Conventions
   - ``"hexahedron20"`` (k = 20): corners 0-7 as for the hexahedron, then the
     edge mid-nodes 8:(0,1) 9:(1,2) 10:(2,3) 11:(3,0) 12:(4,5) 13:(5,6)
     14:(6,7) 15:(7,4) 16:(0,4) 17:(1,5) 18:(2,6) 19:(3,7).
+  - ``"triangle"`` (k = 3): a sheet (membrane) in space or a 2D body in the
+    z = 0 plane; any node order (see :func:`rectangle`). Only built in memory:
+    :func:`read_mesh` reads volume meshes.
 """
 
 from __future__ import annotations
@@ -35,10 +38,13 @@ __all__ = [
     "write_mesh",
     "box",
     "beam",
+    "rectangle",
 ]
 
 #: Node count per cell for each supported meshio/VTK cell type.
-SUPPORTED_CELL_TYPES = {"tetra": 4, "hexahedron": 8, "hexahedron20": 20}
+SUPPORTED_CELL_TYPES = {"tetra": 4, "hexahedron": 8, "hexahedron20": 20, "triangle": 3}
+#: The solid cell types among them (what read_mesh reads).
+VOLUME_CELL_TYPES = ("tetra", "hexahedron", "hexahedron20")
 
 # Generator element names -> meshio cell types.
 _ELEMENTS = {"tet4": "tetra", "hex8": "hexahedron", "hex20": "hexahedron20"}
@@ -77,6 +83,10 @@ _HEX20_EDGES = np.array(
 
 def _supported_list() -> str:
     return ", ".join(SUPPORTED_CELL_TYPES)
+
+
+def _volume_list() -> str:
+    return ", ".join(VOLUME_CELL_TYPES)
 
 
 # --------------------------------------------------------------------------
@@ -194,7 +204,8 @@ class Mesh:
     def cell_volumes(self) -> np.ndarray:
         """Signed volume of every cell.
 
-        returns  (m,) float64; positive for cells in VTK orientation.
+        returns  (m,) float64; positive for cells in VTK orientation. For
+                 triangles: the (unsigned) areas, as a sheet has no inside.
 
         Tets are exact. Hexahedra use 2x2x2 Gauss quadrature of det J of the
         trilinear corner map, which is exact for that map (det J has degree
@@ -202,6 +213,8 @@ class Mesh:
         corner nodes only, so curved edges are ignored.
         """
         x = self.points[self.cells]  # (m, k, 3)
+        if self.cell_type == "triangle":
+            return 0.5 * np.linalg.norm(np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
         if self.cell_type == "tetra":
             return _tet_volumes(x)
         return _hex_volumes(x[:, :8, :])
@@ -360,11 +373,11 @@ def _read_meshio(path: Path):
     except meshio.ReadError as e:
         raise ValueError(f"could not read mesh file {path}: {e}") from e
     found = [block.type for block in m.cells]
-    volume_types = sorted({t for t in found if t in SUPPORTED_CELL_TYPES})
+    volume_types = sorted({t for t in found if t in VOLUME_CELL_TYPES})
     if not volume_types:
         raise ValueError(
             f"{path} has no supported volume cells; found cell types "
-            f"{sorted(set(found))}, supported: {_supported_list()}"
+            f"{sorted(set(found))}, supported: {_volume_list()}"
         )
     if len(volume_types) > 1:
         raise ValueError(
@@ -603,3 +616,35 @@ def _kuhn_tets() -> np.ndarray:
             verts = verts[[0, 2, 1, 3]]
         tets.append(verts)
     return np.array(tets)
+
+
+def rectangle(size=(1.0, 1.0), cells=(1, 1), origin=(0.0, 0.0)) -> Mesh:
+    """A structured triangle mesh of a rectangle in the z = 0 plane (a sheet).
+
+    size     (2,) edge lengths (lx, ly), both > 0
+    cells    (2,) number of squares (nx, ny) along x and y, both >= 1; each is cut
+             into two triangles along its diagonal from (min x, min y) to
+             (max x, max y)
+    origin   (2,) the rectangle's minimum corner (x, y)
+    returns  Mesh of "triangle" cells, counter-clockwise seen from +z (normal +z);
+             nodes numbered x-major with y fastest: node (i, j) is i * (ny + 1) + j.
+    """
+    lengths = np.asarray(size, dtype=np.float64)
+    if lengths.shape != (2,) or not np.all(np.isfinite(lengths) & (lengths > 0)):
+        raise ValueError(f"size must be two finite positive lengths, got {size!r}")
+    counts = np.asarray(cells)
+    if counts.shape != (2,) or counts.dtype.kind not in "iu" or np.any(counts < 1):
+        raise ValueError(f"cells must be two integers >= 1, got {cells!r}")
+    start = np.asarray(origin, dtype=np.float64)
+    if start.shape != (2,) or not np.all(np.isfinite(start)):
+        raise ValueError(f"origin must be two finite coordinates, got {origin!r}")
+    nx, ny = (int(c) for c in counts)
+    xs = np.linspace(start[0], start[0] + lengths[0], nx + 1)
+    ys = np.linspace(start[1], start[1] + lengths[1], ny + 1)
+    gx, gy = np.meshgrid(xs, ys, indexing="ij")
+    points = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)])
+    i, j = (a.ravel() for a in np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij"))
+    n00 = i * (ny + 1) + j
+    n10, n01, n11 = n00 + ny + 1, n00 + 1, n00 + ny + 2
+    tris = np.concatenate([np.column_stack([n00, n10, n11]), np.column_stack([n00, n11, n01])])
+    return Mesh(points, tris, "triangle")
