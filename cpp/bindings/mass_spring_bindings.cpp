@@ -231,16 +231,24 @@ void bind_mass_spring(py::module_& m) {
            py::arg("bound"))
       .def("step", &ExplicitSimulation::step, py::arg("n") = 1, py::call_guard<py::gil_scoped_release>())
       .def("kinetic_energy", &ExplicitSimulation::kinetic_energy)
-      .def("energy", [](ExplicitSimulation& s) { return s.model().energy(s.positions()); })
+      .def("energy", [](ExplicitSimulation& s) {
+        s.model().update(s.positions());
+        return s.model().energy(s.positions());
+      })
       .def("internal_forces", [](ExplicitSimulation& s) {
         Nodes f = Nodes::Zero(3, s.num_nodes());
+        s.model().update(s.positions());
         s.model().add_forces(s.positions(), f);
         return Eigen::MatrixXd(f.transpose());
       })
       .def("damping_forces", [](ExplicitSimulation& s) {
+        // The model's own damping forces: all forces at (x, v) minus the elastic ones.
         Nodes f = Nodes::Zero(3, s.num_nodes());
-        s.model().add_damping_forces(s.positions(), s.velocities(), f);
-        return Eigen::MatrixXd(f.transpose());
+        s.model().add_explicit_forces(s.positions(), s.velocities(), f);
+        s.model().update(s.positions());
+        Nodes elastic = Nodes::Zero(3, s.num_nodes());
+        s.model().add_forces(s.positions(), elastic);
+        return Eigen::MatrixXd((f - elastic).transpose());
       })
       .def_property_readonly("stats", [](const ExplicitSimulation& s) {
         const auto& st = s.stats();

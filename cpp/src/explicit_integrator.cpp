@@ -12,7 +12,7 @@ const char* explicit_scheme_name(ExplicitScheme scheme) {
   return scheme == ExplicitScheme::SymplecticEuler ? "symplectic_euler" : "verlet";
 }
 
-ExplicitIntegrator::ExplicitIntegrator(const MassSpring& model) : model_(model), a_(Nodes::Zero(3, model.num_nodes())) {}
+ExplicitIntegrator::ExplicitIntegrator(ForceModel& model) : model_(model), a_(Nodes::Zero(3, model.num_nodes())) {}
 
 void ExplicitIntegrator::begin(ExplicitScheme scheme, const Nodes& x, const Nodes& v, const Nodes& load,
                                const Vec& inv_mass, const Vec& damping_rate) {
@@ -25,7 +25,7 @@ void ExplicitIntegrator::begin(ExplicitScheme scheme, const Nodes& x, const Node
 
 void ExplicitIntegrator::acceleration(const Nodes& x, const Nodes& v) {
   a_ = *load_;
-  model_.add_forces_and_damping(x, v, a_);
+  model_.add_explicit_forces(x, v, a_);
   const Index n = a_.cols();
   const double* im = inv_mass_->data();
   const double* dr = damping_rate_->data();

@@ -36,8 +36,13 @@ void ExplicitSettings::validate() const {
     throw InvalidInput("mass damping must be >= 0 and finite, got " + std::to_string(mass_damping));
 }
 
-ExplicitSimulation::ExplicitSimulation(std::unique_ptr<MassSpring> model, const ExplicitSettings& settings)
+ExplicitSimulation::ExplicitSimulation(std::unique_ptr<ForceModel> model, const ExplicitSettings& settings)
     : model_(std::move(model)), settings_(settings), integrator_(*model_) {
+  masses_ = model_->lumped_masses();
+  for (Index i = 0; i < masses_.size(); ++i)
+    if (!(masses_[i] > 0))
+      throw InvalidInput("node " + std::to_string(i) + " has lumped mass " + std::to_string(masses_[i]) +
+                         ": explicit steps need a positive mass at every node");
   settings_.validate();
   const Index n = model_->num_nodes();
   x_ = model_->rest_positions();
@@ -46,16 +51,23 @@ ExplicitSimulation::ExplicitSimulation(std::unique_ptr<MassSpring> model, const 
   load_.setZero(3, n);
   gravity_forces_.setZero(3, n);
   work_ = model_->pattern();
+  // Shortest distance between coupled nodes at rest (springs, element edges).
   double shortest = std::numeric_limits<double>::infinity();
-  for (const Spring& spring : model_->springs())
-    if (spring.rest_length > 0) shortest = std::min(shortest, spring.rest_length);
+  const auto& start = work_.row_start();
+  const auto& cols = work_.columns();
+  for (Index i = 0; i < n; ++i)
+    for (int k = start[i]; k < start[i + 1]; ++k)
+      if (cols[k] != i) {
+        const double d = (x_.col(i) - x_.col(cols[k])).norm();
+        if (d > 0) shortest = std::min(shortest, d);
+      }
   online_tolerance_ = std::isfinite(shortest) ? 0.05 * shortest : 0.0;
   rebuild_node_factors();
 }
 
 void ExplicitSimulation::rebuild_node_factors() {
   const Index n = num_nodes();
-  const Vec& m = model_->masses();
+  const Vec& m = masses_;
   inv_mass_ = m.cwiseInverse();
   damping_rate_ = Vec::Constant(n, settings_.mass_damping);
   for (Index i : fixed_nodes_) inv_mass_[i] = damping_rate_[i] = 0.0;
@@ -67,7 +79,7 @@ void ExplicitSimulation::rebuild_node_factors() {
 void ExplicitSimulation::set_gravity(const Vec3& g) {
   if (!g.allFinite()) throw InvalidInput("gravity must be finite");
   gravity_ = g;
-  for (Index i = 0; i < num_nodes(); ++i) gravity_forces_.col(i) = model_->masses()[i] * g;
+  for (Index i = 0; i < num_nodes(); ++i) gravity_forces_.col(i) = masses_[i] * g;
 }
 
 void ExplicitSimulation::set_fixed_nodes(const std::vector<Index>& nodes) {
@@ -93,18 +105,20 @@ StabilityEstimate ExplicitSimulation::estimate_stability(bool bound) {
   StabilityEstimate est;
   est.bound = bound;
   work_.set_zero();
-  if (bound) model_->add_stiffness_bound(1.0, work_);
-  else {
+  if (!bound || !model_->add_stiffness_bound(1.0, work_)) {
+    est.bound = false;  // no configuration-independent bound: the linearised system here
+    work_.set_zero();
     model_->update(x_);
     model_->add_stiffness(1.0, work_);
   }
   est.stiffness = largest_eigenvalue(work_, inv_sqrt_mass_);
-  bool damped = false;
-  for (const Spring& s : model_->springs()) damped |= s.damping > 0;
-  if (damped) {
+  if (model_->has_damping()) {
     work_.set_zero();
-    if (bound) model_->add_damping_bound(1.0, work_);
-    else model_->add_damping_matrix(1.0, work_);
+    if (!bound || !model_->add_damping_bound(1.0, work_)) {
+      work_.set_zero();
+      model_->update(x_);
+      model_->add_damping_matrix(1.0, work_);
+    }
     est.damping = largest_eigenvalue(work_, inv_sqrt_mass_);
   }
   const double omega_sq = std::max(est.stiffness.value, 0.0);
@@ -208,7 +222,7 @@ void ExplicitSimulation::step(int n) {
 
 double ExplicitSimulation::kinetic_energy() const {
   double e = 0;
-  for (Index i = 0; i < num_nodes(); ++i) e += 0.5 * model_->masses()[i] * v_.col(i).squaredNorm();
+  for (Index i = 0; i < num_nodes(); ++i) e += 0.5 * masses_[i] * v_.col(i).squaredNorm();
   return e;
 }
 

@@ -145,12 +145,20 @@ void MassSpring::add_damping_matrix(double scale, BlockSparseMatrix& A) const {
   });
 }
 
-void MassSpring::add_stiffness_bound(double scale, BlockSparseMatrix& A) const {
+bool MassSpring::add_stiffness_bound(double scale, BlockSparseMatrix& A) const {
   scatter(scale, A, [](const Spring& sp) -> Mat3 { return sp.stiffness * Mat3::Identity(); });
+  return true;
 }
 
-void MassSpring::add_damping_bound(double scale, BlockSparseMatrix& A) const {
+bool MassSpring::add_damping_bound(double scale, BlockSparseMatrix& A) const {
   scatter(scale, A, [](const Spring& sp) -> Mat3 { return sp.damping * Mat3::Identity(); });
+  return true;
+}
+
+bool MassSpring::has_damping() const {
+  for (const Spring& sp : springs_)
+    if (sp.damping > 0) return true;
+  return false;
 }
 
 void MassSpring::add_linearized_forces(const Nodes& y, Nodes& f) const {

@@ -1,5 +1,5 @@
-// A mass-spring body stepped explicitly: state, loads, pinned nodes, the stable time step
-// and sub-stepping. What corotate.ExplicitSimulation drives frame by frame; the benchmark
+// A body stepped explicitly (a mass-spring system, or any force model with a lumped mass):
+// state, loads, pinned nodes, the stable time step and sub-stepping. What corotate.ExplicitSimulation drives frame by frame; the benchmark
 // drives it directly.
 //
 // Time step. The user asks for steps of dt (a frame, say); each is split into as many equal
@@ -7,12 +7,14 @@
 // an error naming dt and the limit (Raise), or taken as given (Allow: for experiments).
 // dt = 0 means "the stable step": one substep of safety x dt_crit per step.
 // dt_crit comes from critical_time_step.hpp, with w^2 = lambda_max(M^-1 K) from
-//   - Fixed policy (conservative, the default): the configuration-independent bound
-//     K <= L_k (x) I of mass_spring.hpp, estimated once (again when the pinned set changes);
-//     safe for every configuration the springs can reach, so it never needs updating.
+//   - Fixed policy (conservative, the default): for models with a configuration-independent
+//     bound of K (mass-spring: K <= L_k (x) I, see mass_spring.hpp) that bound, estimated once
+//     (again when the pinned set changes), safe for every configuration the springs can
+//     reach; for models without one (hyperelastic solids) the linearised system of the
+//     configuration the estimate first sees, kept fixed.
 //   - Online policy: the linearised system at the current positions, re-estimated at the
-//     start of a step whenever some node has moved more than 5 % of the shortest spring's
-//     rest length since the last estimate (the spring Hessians, and with them w, change
+//     start of a step whenever some node has moved more than 5 % of the shortest distance
+//     between coupled nodes at rest (a spring's, an element edge's) since the last estimate (the spring Hessians, and with them w, change
 //     little below that); larger steps, one Lanczos run (up to 80 matrix-vector products)
 //     per re-estimate.
 // A step that produces non-finite positions or velocities throws SolverFailure and the
@@ -65,9 +67,9 @@ struct ExplicitStats {
 
 class ExplicitSimulation {
  public:
-  ExplicitSimulation(std::unique_ptr<MassSpring> model, const ExplicitSettings& settings);
+  ExplicitSimulation(std::unique_ptr<ForceModel> model, const ExplicitSettings& settings);
 
-  MassSpring& model() { return *model_; }
+  ForceModel& model() { return *model_; }
   Index num_nodes() const { return model_->num_nodes(); }
 
   // State and loads, 3 x n (NumPy sees (n, 3)); callers may write into them between steps.
@@ -103,7 +105,8 @@ class ExplicitSimulation {
   void check_finite_state() const;
   void rebuild_node_factors();
 
-  std::unique_ptr<MassSpring> model_;
+  std::unique_ptr<ForceModel> model_;
+  Vec masses_;  // lumped, per node
   ExplicitSettings settings_;
   ExplicitIntegrator integrator_;
   Nodes x_, v_, f_ext_, gravity_forces_, load_, x_backup_, v_backup_;

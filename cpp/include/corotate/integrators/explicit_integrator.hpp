@@ -1,6 +1,8 @@
-// Explicit time integration of a mass-spring system: symplectic Euler and velocity Verlet.
+// Explicit time integration of any force model with a lumped mass: symplectic Euler and
+// velocity Verlet (mass-spring systems, and FE models such as StVK sheets).
 //
-// With a(x, v) = M^-1 (f_spring(x, v) + f_ext + M g) - alpha v  (alpha: mass damping):
+// With a(x, v) = M^-1 (f(x, v) + f_ext + M g) - alpha v  (f: elastic plus the model's own
+// damping forces; alpha: mass damping):
 //   symplectic Euler (semi-implicit Euler, see the explainer in the seeds):
 //       v <- v + h a(x, v),   x <- x + h v
 //   velocity Verlet (kick-drift-kick; one force evaluation per step, a is kept):
@@ -14,7 +16,7 @@
 
 #include <string>
 
-#include "corotate/models/mass_spring.hpp"
+#include "corotate/models/force_model.hpp"
 
 namespace corotate {
 
@@ -24,7 +26,7 @@ const char* explicit_scheme_name(ExplicitScheme scheme);
 
 class ExplicitIntegrator {
  public:
-  explicit ExplicitIntegrator(const MassSpring& model);
+  explicit ExplicitIntegrator(ForceModel& model);
 
   // Prepare a run of substeps from (x, v): load = f_ext + M g (3 x n), inv_mass and
   // damping_rate per node (0 for pinned nodes). The references must outlive the run.
@@ -37,7 +39,7 @@ class ExplicitIntegrator {
  private:
   void acceleration(const Nodes& x, const Nodes& v);  // into a_
 
-  const MassSpring& model_;
+  ForceModel& model_;
   ExplicitScheme scheme_ = ExplicitScheme::VelocityVerlet;
   const Nodes* load_ = nullptr;
   const Vec* inv_mass_ = nullptr;

@@ -40,6 +40,24 @@ class ForceModel {
   }
   // Elastic energy at x (consistent with the forces of the model at its current state).
   virtual double energy(const Nodes& x) const = 0;
+
+  // --- What explicit integration needs; the defaults suit models without damping. ---
+  // Point mass per node (n): the lumped mass matrix's diagonal.
+  virtual Vec lumped_masses() const;
+  // f += elastic forces at x plus the model's own damping forces at velocities v, updating
+  // per-configuration state as needed (one call per explicit substep).
+  virtual void add_explicit_forces(const Nodes& x, const Nodes& v, Nodes& f) {
+    update(x);
+    add_forces(x, f);
+  }
+  virtual bool has_damping() const { return false; }
+  // A += scale * C, C = -d f_damping / dv at the last update.
+  virtual void add_damping_matrix(double scale, BlockSparseMatrix& A) const {}
+  // A += scale * an upper bound of K (resp. C) valid in every configuration, for a stable
+  // step that never needs updating. Returns false when the model has none (hyperelastic
+  // solids stiffen without bound under stretch).
+  virtual bool add_stiffness_bound(double scale, BlockSparseMatrix& A) const { return false; }
+  virtual bool add_damping_bound(double scale, BlockSparseMatrix& A) const { return false; }
 };
 
 }  // namespace corotate

@@ -59,12 +59,16 @@ class MassSpring : public ForceModel {
   void add_damping_forces(const Nodes& x, const Nodes& v, Nodes& f) const;
   // f += elastic + damping forces in one sweep over the springs (what explicit steps use).
   void add_forces_and_damping(const Nodes& x, const Nodes& v, Nodes& f) const;
+  // Explicit steps: forces need no update, so none is made (no copy of x per substep).
+  void add_explicit_forces(const Nodes& x, const Nodes& v, Nodes& f) override { add_forces_and_damping(x, v, f); }
+  Vec lumped_masses() const override { return masses_; }
+  bool has_damping() const override;
   // A += scale * C with C = -df_damping/dv at the state of the last update (blocks d u u^T).
-  void add_damping_matrix(double scale, BlockSparseMatrix& A) const;
+  void add_damping_matrix(double scale, BlockSparseMatrix& A) const override;
   // A += scale * (L_k (x) I), resp. (L_d (x) I): configuration-independent upper bounds of K
   // and C (see the note at the top of this file).
-  void add_stiffness_bound(double scale, BlockSparseMatrix& A) const;
-  void add_damping_bound(double scale, BlockSparseMatrix& A) const;
+  bool add_stiffness_bound(double scale, BlockSparseMatrix& A) const override;
+  bool add_damping_bound(double scale, BlockSparseMatrix& A) const override;
 
   const std::vector<Spring>& springs() const { return springs_; }
   const Vec& masses() const { return masses_; }
