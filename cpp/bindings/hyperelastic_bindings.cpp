@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "conversions.hpp"
 #include "corotate/materials/fixed_corotated.hpp"
 #include "corotate/materials/stable_neo_hookean.hpp"
 #include "corotate/materials/stvk.hpp"
@@ -15,39 +16,10 @@
 
 namespace py = pybind11;
 using namespace corotate;
+using namespace corotate::bindings;
 
 namespace {
 
-using PointsIn = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using CellsIn = py::array_t<long long, py::array::c_style | py::array::forcecast>;
-
-Nodes nodes_from(const PointsIn& points, const char* what) {
-  if (points.ndim() != 2 || points.shape(1) != 3) throw InvalidInput(std::string(what) + " must have shape (n, 3)");
-  Nodes x(3, points.shape(0));
-  std::copy(points.data(), points.data() + points.size(), x.data());
-  return x;
-}
-
-Connectivity cells_from(const CellsIn& cells) {
-  if (cells.ndim() != 2) throw InvalidInput("cells must have shape (m, nodes_per_cell)");
-  Connectivity c(cells.shape(0), cells.shape(1));
-  for (py::ssize_t k = 0; k < cells.size(); ++k) {
-    const long long v = cells.data()[k];
-    if (v < 0 || v > std::numeric_limits<int>::max())
-      throw InvalidInput("cell " + std::to_string(k / cells.shape(1)) + " refers to node " + std::to_string(v) + ", out of range");
-    c.data()[k] = static_cast<int>(v);
-  }
-  return c;
-}
-
-py::tuple to_csr(const BlockSparseMatrix& A) {
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> s;
-  A.copy_to(s);  // symmetric: the CSC arrays are also the CSR arrays
-  Eigen::VectorXd data = Eigen::Map<const Eigen::VectorXd>(s.valuePtr(), s.nonZeros());
-  Eigen::VectorXi indices = Eigen::Map<const Eigen::VectorXi>(s.innerIndexPtr(), s.nonZeros());
-  Eigen::VectorXi indptr = Eigen::Map<const Eigen::VectorXi>(s.outerIndexPtr(), s.outerSize() + 1);
-  return py::make_tuple(data, indices, indptr);
-}
 
 template <class Law>
 py::tuple evaluate_law(const Law& law, const Mat3& F) {

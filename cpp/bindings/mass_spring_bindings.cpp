@@ -6,24 +6,19 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "conversions.hpp"
 #include "corotate/explicit_simulation.hpp"
+#include "corotate/models/model_factory.hpp"
 #include "corotate/models/spring_builders.hpp"
 
 namespace py = pybind11;
 using namespace corotate;
+using namespace corotate::bindings;
 
 namespace {
 
-using PointsIn = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using IndexIn = py::array_t<long long, py::array::c_style | py::array::forcecast>;
 using ValuesIn = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-Nodes points_from(const PointsIn& points, const char* what) {
-  if (points.ndim() != 2 || points.shape(1) != 3) throw InvalidInput(std::string(what) + " must have shape (n, 3)");
-  Nodes x(3, points.shape(0));
-  std::copy(points.data(), points.data() + points.size(), x.data());
-  return x;
-}
 
 Vec values_from(const ValuesIn& a, py::ssize_t n, const char* what) {
   if (a.ndim() != 1 || a.shape(0) != n)
@@ -51,28 +46,8 @@ std::vector<Spring> springs_from(const IndexIn& pairs, const ValuesIn& k, const 
 
 std::unique_ptr<MassSpring> make_mass_spring(const PointsIn& points, const IndexIn& pairs, const ValuesIn& k, const ValuesIn& d,
                                              const ValuesIn& l0, const ValuesIn& masses) {
-  const Nodes X = points_from(points, "nodes");
+  const Nodes X = nodes_from(points, "nodes");
   return std::make_unique<MassSpring>(X, springs_from(pairs, k, d, l0), values_from(masses, X.cols(), "masses"));
-}
-
-py::array node_view(Nodes& x, py::handle owner) {
-  return py::array_t<double>({x.cols(), Index(3)}, {Index(3 * sizeof(double)), Index(sizeof(double))}, x.data(), owner);
-}
-
-py::tuple to_csr(const BlockSparseMatrix& A) {
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> s;
-  A.copy_to(s);
-  Eigen::VectorXd data = Eigen::Map<const Eigen::VectorXd>(s.valuePtr(), s.nonZeros());
-  Eigen::VectorXi indices = Eigen::Map<const Eigen::VectorXi>(s.innerIndexPtr(), s.nonZeros());
-  Eigen::VectorXi indptr = Eigen::Map<const Eigen::VectorXi>(s.outerIndexPtr(), s.outerSize() + 1);
-  return py::make_tuple(data, indices, indptr);
-}
-
-Nodes checked_positions(const ForceModel& model, const PointsIn& x, const char* what) {
-  Nodes X = points_from(x, what);
-  if (X.cols() != model.num_nodes()) throw InvalidInput(std::string(what) + " must have one row per node");
-  if (Index i = first_non_finite_node(X); i >= 0) throw InvalidInput(std::string(what) + " of node " + std::to_string(i) + " is not finite");
-  return X;
 }
 
 py::dict system_dict(const SpringSystem& s) {
@@ -149,7 +124,7 @@ void bind_mass_spring(py::module_& m) {
            "Mass-spring force model: nodes (n, 3), springs (m, 2) node pairs, stiffness, damping, rest_lengths (m,), masses (n,).")
       .def_property_readonly("num_springs", &MassSpring::num_springs)
       .def("damping_forces", [](MassSpring& self, const PointsIn& x, const PointsIn& v) {
-        const Nodes X = checked_positions(self, x, "positions"), V = checked_positions(self, v, "velocities");
+        const Nodes X = checked_positions(self, x, "positions"), V = checked_positions(self, v, "velocities", "velocity");
         Nodes f = Nodes::Zero(3, X.cols());
         self.add_damping_forces(X, V, f);
         return Eigen::MatrixXd(f.transpose());
@@ -186,7 +161,7 @@ void bind_mass_spring(py::module_& m) {
         throw InvalidInput("cell " + std::to_string(k / cells.shape(1)) + " refers to node " + std::to_string(v) + ", out of range");
       c.data()[k] = static_cast<int>(v);
     }
-    return system_dict(springs_from_mesh(points_from(points, "points"), c, cell_type, E, density, beta, diagonals));
+    return system_dict(springs_from_mesh(nodes_from(points, "points"), c, cell_type, E, density, beta, diagonals));
   }, py::arg("points"), py::arg("cells"), py::arg("cell_type"), py::arg("youngs_modulus"), py::arg("density"), py::arg("beta"),
         py::arg("diagonals"));
 
@@ -202,6 +177,19 @@ void bind_mass_spring(py::module_& m) {
            }),
            py::arg("nodes"), py::arg("springs"), py::arg("stiffness"), py::arg("damping"), py::arg("rest_lengths"),
            py::arg("masses"), py::arg("time_step"), py::arg("integrator"), py::arg("policy"), py::arg("on_unstable"),
+           py::arg("safety"), py::arg("mass_damping"))
+      // A finite-element body (any model of make_model) stepped explicitly with its lumped mass.
+      .def(py::init([](const std::string& model, const std::string& cell_type, const PointsIn& points,
+                       const CellsIn& cells, const Material& material, double thickness, double dt,
+                       const std::string& integrator, const std::string& policy, const std::string& on_unstable,
+                       double safety, double mass_damping) {
+             return std::make_unique<ExplicitSimulation>(
+                 make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells), material,
+                            ModelOptions{thickness, false}),
+                 make_settings(dt, integrator, policy, on_unstable, safety, mass_damping));
+           }),
+           py::arg("model"), py::arg("cell_type"), py::arg("points"), py::arg("cells"), py::arg("material"),
+           py::arg("thickness"), py::arg("time_step"), py::arg("integrator"), py::arg("policy"), py::arg("on_unstable"),
            py::arg("safety"), py::arg("mass_damping"))
       .def_property_readonly("positions", [](py::object self) { return node_view(self.cast<ExplicitSimulation&>().positions(), self); })
       .def_property_readonly("velocities", [](py::object self) { return node_view(self.cast<ExplicitSimulation&>().velocities(), self); })

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "conversions.hpp"
 #include "corotate/elements/element_matrices.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/models/rotation_extraction.hpp"
@@ -15,58 +16,13 @@
 
 namespace py = pybind11;
 using namespace corotate;
+using namespace corotate::bindings;
 
 void bind_mass_spring(py::module_& m);  // mass_spring_bindings.cpp
 void bind_hyperelastic(py::module_& m);  // hyperelastic_bindings.cpp
 
 namespace {
 
-using PointsIn = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using CellsIn = py::array_t<long long, py::array::c_style | py::array::forcecast>;
-
-Nodes nodes_from(const PointsIn& points, const char* what) {
-  if (points.ndim() != 2 || points.shape(1) != 3)
-    throw InvalidInput(std::string(what) + " must have shape (n, 3)");
-  Nodes x(3, points.shape(0));
-  std::copy(points.data(), points.data() + points.size(), x.data());
-  return x;
-}
-
-Connectivity cells_from(const CellsIn& cells) {
-  if (cells.ndim() != 2) throw InvalidInput("cells must have shape (m, nodes_per_cell)");
-  Connectivity c(cells.shape(0), cells.shape(1));
-  for (py::ssize_t k = 0; k < cells.size(); ++k) {
-    const long long v = cells.data()[k];
-    if (v < 0 || v > std::numeric_limits<int>::max())
-      throw InvalidInput("cell " + std::to_string(k / cells.shape(1)) + " refers to node " + std::to_string(v) +
-                         ", out of range");
-    c.data()[k] = static_cast<int>(v);
-  }
-  return c;
-}
-
-// Positions for a model: (n, 3), one row per node, finite.
-Nodes checked_positions(const ForceModel& model, const PointsIn& x) {
-  Nodes X = nodes_from(x, "positions");
-  if (X.cols() != model.num_nodes()) throw InvalidInput("positions must have one row per node");
-  if (Index i = first_non_finite_node(X); i >= 0) throw InvalidInput("position of node " + std::to_string(i) + " is not finite");
-  return X;
-}
-
-// (n, 3) NumPy view of a 3 x n buffer owned by `owner` (no copy; writable).
-py::array node_view(Nodes& x, py::handle owner) {
-  return py::array_t<double>({x.cols(), Index(3)}, {Index(3 * sizeof(double)), Index(sizeof(double))}, x.data(), owner);
-}
-
-// A BlockSparseMatrix as a scipy-ready CSR triple (data, indices, indptr).
-py::tuple to_csr(const BlockSparseMatrix& A) {
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> s;
-  A.copy_to(s);  // symmetric: the CSC arrays are also the CSR arrays
-  Eigen::VectorXd data = Eigen::Map<const Eigen::VectorXd>(s.valuePtr(), s.nonZeros());
-  Eigen::VectorXi indices = Eigen::Map<const Eigen::VectorXi>(s.innerIndexPtr(), s.nonZeros());
-  Eigen::VectorXi indptr = Eigen::Map<const Eigen::VectorXi>(s.outerIndexPtr(), s.outerSize() + 1);
-  return py::make_tuple(data, indices, indptr);
-}
 
 // Block matrix from a symmetric COO description of a 3n x 3n matrix.
 BlockSparseMatrix from_coo(Index size, const Eigen::VectorXi& rows, const Eigen::VectorXi& cols, const Eigen::VectorXd& values) {
@@ -231,12 +187,14 @@ PYBIND11_MODULE(_core, m) {
   py::class_<Simulation>(m, "Simulation")
       .def(py::init([](const std::string& model, const std::string& cell_type, const PointsIn& points, const CellsIn& cells,
                        const Material& material, const ImplicitEulerSettings& settings, const std::string& solver,
-                       const PCGSettings& pcg) {
-             return std::make_unique<Simulation>(make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells), material),
+                       const PCGSettings& pcg, double thickness, bool project_psd) {
+             return std::make_unique<Simulation>(make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells),
+                                                            material, ModelOptions{thickness, project_psd}),
                                                  settings, make_solver(solver, pcg));
            }),
            py::arg("model"), py::arg("cell_type"), py::arg("points"), py::arg("cells"), py::arg("material"),
-           py::arg("settings"), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{})
+           py::arg("settings"), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{}, py::arg("thickness") = 1.0,
+           py::arg("project_psd") = false)
       .def_property_readonly("positions", [](py::object self) { return node_view(self.cast<Simulation&>().positions(), self); })
       .def_property_readonly("velocities", [](py::object self) { return node_view(self.cast<Simulation&>().velocities(), self); })
       .def_property_readonly("external_forces", [](py::object self) { return node_view(self.cast<Simulation&>().external_forces(), self); })
