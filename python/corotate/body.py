@@ -61,8 +61,13 @@ class Body:
         self.model = model
         self.thickness = thickness
         self.project_psd = bool(project_psd)
-        self._force_model = _core.make_force_model(model, mesh.cell_type, mesh.points, mesh.cells, material._core(),
-                                                   1.0 if thickness is None else thickness, self.project_psd)
+        self._force_model = _core.make_force_model(*self._model_spec())
+
+    def _model_spec(self) -> tuple:
+        """Arguments that build this body's C++ force model (simulations build their own)."""
+        mesh = self.mesh
+        return (self.model, mesh.cell_type, mesh.points, mesh.cells, self.material._core(),
+                1.0 if self.thickness is None else self.thickness, self.project_psd)
 
     @property
     def n_nodes(self) -> int:

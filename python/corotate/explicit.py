@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from . import _core
+from .body import Body
 from .mass_spring import MassSpringBody
 
 __all__ = ["ExplicitSimulation"]
@@ -17,9 +18,11 @@ ON_UNSTABLE = ("substep", "raise", "allow")
 
 
 class ExplicitSimulation:
-    """Explicit simulation of a MassSpringBody, with the same surface as Simulation.
+    """Explicit simulation of a MassSpringBody or a finite-element Body, with the same
+    surface as Simulation.
 
-    body          MassSpringBody
+    body          MassSpringBody, or Body (any model; stepped with its lumped mass, e.g. the
+                  explainer's StVK sheet with symplectic Euler)
     dt            step [s] that step() advances, e.g. a frame time; None = the stable step
     integrator    "verlet" (velocity Verlet, default) or "symplectic_euler"
     on_unstable   what happens when dt exceeds the stable step safety * dt_crit:
@@ -42,15 +45,22 @@ class ExplicitSimulation:
     A step producing non-finite values raises RuntimeError and restores the state.
     """
 
-    def __init__(self, body: MassSpringBody, dt=None, integrator: str = "verlet", on_unstable: str = "substep",
+    def __init__(self, body, dt=None, integrator: str = "verlet", on_unstable: str = "substep",
                  policy: str = "fixed", safety: float = 0.9, gravity=(0.0, 0.0, 0.0), mass_damping: float = 0.0):
-        if not isinstance(body, MassSpringBody):
-            raise TypeError("body must be a corotate.MassSpringBody")
+        if not isinstance(body, (MassSpringBody, Body)):
+            raise TypeError("body must be a corotate.MassSpringBody or a corotate.Body")
         self.body = body
         self._settings = dict(time_step=self._check_dt(dt), integrator=integrator, policy=policy,
                               on_unstable=on_unstable, safety=float(safety), mass_damping=float(mass_damping))
-        self._sim = _core.ExplicitSimulation(body.nodes, body.springs, body.stiffness, body.damping, body.rest_lengths,
-                                             body.masses, **self._settings)
+        if isinstance(body, MassSpringBody):
+            self._rest = body.nodes
+            self._sim = _core.ExplicitSimulation(body.nodes, body.springs, body.stiffness, body.damping,
+                                                 body.rest_lengths, body.masses, **self._settings)
+        else:  # a finite-element body with its lumped mass (project_psd plays no part here)
+            self._rest = body.mesh.points
+            model, cell_type, points, cells, material, thickness, _ = body._model_spec()
+            self._sim = _core.ExplicitSimulation(model, cell_type, points, cells, material, thickness,
+                                                 **self._settings)
         self.gravity = gravity
 
     @staticmethod
@@ -86,7 +96,7 @@ class ExplicitSimulation:
     @property
     def displacements(self) -> np.ndarray:
         """(n, 3) positions minus rest positions (a new array)."""
-        return self.positions - self.body.nodes
+        return self.positions - self._rest
 
     @property
     def time(self) -> float:

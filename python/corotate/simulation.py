@@ -53,13 +53,13 @@ class Simulation:
         alpha, beta = (float(v) for v in rayleigh)
         self.body = body
         self.solver = solver
-        mesh = body.mesh
         settings = _core.ImplicitEulerSettings(float(dt), alpha, beta, mass == "lumped",
                                                int(newton_iterations) if integrator == "newton" else 0,
                                                float(newton_tolerance))
         kind, pcg = solver._args()
-        self._sim = _core.Simulation(body.model, mesh.cell_type, mesh.points, mesh.cells, body.material._core(),
-                                     settings, kind, pcg)
+        model, cell_type, points, cells, material, thickness, project_psd = body._model_spec()
+        self._sim = _core.Simulation(model, cell_type, points, cells, material, settings, kind, pcg,
+                                     thickness=thickness, project_psd=project_psd)
         self.gravity = gravity
 
     # --- state ----------------------------------------------------------------------
