@@ -151,17 +151,10 @@ void bind_mass_spring(py::module_& m) {
   m.def("cube_lattice", [](int nx, int ny, int nz, const Vec3& size, double E, double density, double beta) {
     return system_dict(cube_lattice({nx, ny, nz, size.x(), size.y(), size.z(), E, density, beta}));
   }, py::arg("nx"), py::arg("ny"), py::arg("nz"), py::arg("size"), py::arg("youngs_modulus"), py::arg("density"), py::arg("beta"));
-  m.def("springs_from_mesh", [](const PointsIn& points, const IndexIn& cells, const std::string& cell_type, double E,
+  m.def("springs_from_mesh", [](const PointsIn& points, const CellsIn& cells, const std::string& cell_type, double E,
                                 double density, double beta, bool diagonals) {
-    if (cells.ndim() != 2) throw InvalidInput("cells must have shape (m, nodes_per_cell)");
-    Connectivity c(cells.shape(0), cells.shape(1));
-    for (py::ssize_t k = 0; k < cells.size(); ++k) {
-      const long long v = cells.data()[k];
-      if (v < 0 || v > std::numeric_limits<int>::max())
-        throw InvalidInput("cell " + std::to_string(k / cells.shape(1)) + " refers to node " + std::to_string(v) + ", out of range");
-      c.data()[k] = static_cast<int>(v);
-    }
-    return system_dict(springs_from_mesh(nodes_from(points, "points"), c, cell_type, E, density, beta, diagonals));
+    return system_dict(springs_from_mesh(nodes_from(points, "points"), cells_from(cells), cell_type, E, density, beta,
+                                         diagonals));
   }, py::arg("points"), py::arg("cells"), py::arg("cell_type"), py::arg("youngs_modulus"), py::arg("density"), py::arg("beta"),
         py::arg("diagonals"));
 

@@ -5,12 +5,6 @@
 
 namespace corotate {
 
-Index first_non_finite_node(const Nodes& x) {
-  for (Index j = 0; j < x.cols(); ++j)
-    if (!x.col(j).allFinite()) return j;
-  return -1;
-}
-
 void Material::validate() const {
   auto fail = [](const std::string& what) { throw InvalidInput(what); };
   std::ostringstream msg;

@@ -70,16 +70,7 @@ void Simulation::set_solver(std::unique_ptr<LinearSolver> solver) {
   solver_->set_geometry(model_->rest_positions());
 }
 
-void Simulation::check_finite_state() const {
-  const auto report = [](const char* what, Index node) {
-    std::ostringstream msg;
-    msg << what << " of node " << node << " is not finite (NaN or infinity)";
-    throw InvalidInput(msg.str());
-  };
-  if (Index i = first_non_finite_node(x_); i >= 0) report("position", i);
-  if (Index i = first_non_finite_node(v_); i >= 0) report("velocity", i);
-  if (Index i = first_non_finite_node(f_ext_); i >= 0) report("external force", i);
-}
+void Simulation::check_finite_state() const { corotate::check_finite_state(x_, v_, f_ext_); }
 
 void Simulation::step(int n) {
   if (n < 0) throw InvalidInput("step count must be non-negative");

@@ -8,6 +8,7 @@ import numpy as np
 
 from . import _core
 from .body import Body
+from .driven_body import DrivenBody
 from .mass_spring import MassSpringBody
 
 __all__ = ["ExplicitSimulation"]
@@ -17,7 +18,7 @@ POLICIES = ("fixed", "online")
 ON_UNSTABLE = ("substep", "raise", "allow")
 
 
-class ExplicitSimulation:
+class ExplicitSimulation(DrivenBody):
     """Explicit simulation of a MassSpringBody or a finite-element Body, with the same
     surface as Simulation.
 
@@ -77,44 +78,6 @@ class ExplicitSimulation:
         self._sim.configure(**settings)
         self._settings = settings
 
-    # --- state -------------------------------------------------------------------------
-    @property
-    def positions(self) -> np.ndarray:
-        """(n, 3) current node positions (a writable view)."""
-        return self._sim.positions
-
-    @property
-    def velocities(self) -> np.ndarray:
-        """(n, 3) current node velocities (a writable view)."""
-        return self._sim.velocities
-
-    @property
-    def external_forces(self) -> np.ndarray:
-        """(n, 3) external nodal forces [N], kept between steps (a writable view)."""
-        return self._sim.external_forces
-
-    @property
-    def displacements(self) -> np.ndarray:
-        """(n, 3) positions minus rest positions (a new array)."""
-        return self.positions - self._rest
-
-    @property
-    def time(self) -> float:
-        """Simulated time [s]."""
-        return self._sim.time
-
-    @property
-    def gravity(self) -> np.ndarray:
-        """(3,) gravitational acceleration [m/s^2]."""
-        return np.array(self._sim.gravity)
-
-    @gravity.setter
-    def gravity(self, g):
-        g = np.asarray(g, dtype=np.float64)
-        if g.shape != (3,):
-            raise ValueError("gravity must be a 3-vector")
-        self._sim.gravity = g
-
     # --- settings ----------------------------------------------------------------------
     @property
     def dt(self):
@@ -151,29 +114,6 @@ class ExplicitSimulation:
     @policy.setter
     def policy(self, value: str):
         self._configure(policy=value)
-
-    # --- constraints -------------------------------------------------------------------
-    def fix(self, nodes) -> None:
-        """Pin the given nodes (int indices or a boolean mask), replacing the previous set.
-
-        Pinned nodes feel no force; they keep their velocity (zero unless set) and move with
-        it, so writing into ``positions``/``velocities`` prescribes their motion."""
-        nodes = np.asarray(nodes)
-        if nodes.dtype == bool:
-            if nodes.shape != (self.body.n_nodes,):
-                raise ValueError("a boolean node mask needs one entry per node")
-            nodes = np.flatnonzero(nodes)
-        if nodes.size and not np.issubdtype(nodes.dtype, np.integer):
-            raise ValueError("node indices must be integers")
-        self._sim.fixed_nodes = [int(i) for i in nodes.ravel()]
-
-    def free(self) -> None:
-        """Release all pinned nodes."""
-        self._sim.fixed_nodes = []
-
-    @property
-    def fixed_nodes(self) -> np.ndarray:
-        return np.array(self._sim.fixed_nodes, dtype=np.int64)
 
     # --- time step ---------------------------------------------------------------------
     @property
@@ -212,17 +152,9 @@ class ExplicitSimulation:
             raise ValueError("advance needs a fixed dt; with dt=None use step(n)")
         self.step(int(round(float(duration) / self.dt)))
 
-    def internal_forces(self) -> np.ndarray:
-        """(n, 3) elastic spring forces at the current positions."""
-        return self._sim.internal_forces()
-
     def damping_forces(self) -> np.ndarray:
         """(n, 3) spring damping forces at the current positions and velocities."""
         return self._sim.damping_forces()
-
-    def energy(self) -> float:
-        """Spring energy at the current positions."""
-        return self._sim.energy()
 
     def kinetic_energy(self) -> float:
         """sum m |v|^2 / 2."""
@@ -234,6 +166,3 @@ class ExplicitSimulation:
         [s], estimate_time [s] and estimates (dt_crit estimates), real_time_ratio; and the
         last step's substeps (last_substeps) and their size (last_substep [s])."""
         return self._sim.stats
-
-    def reset_stats(self) -> None:
-        self._sim.reset_stats()

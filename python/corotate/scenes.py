@@ -66,6 +66,20 @@ def dropped_cube(out="corotate-scenes", cells: int = 6, frames: int = 240, speed
     return _run("cube", sim, body, out, frames, "soft cube dropped on a pinned base")
 
 
+def pyplot():
+    """matplotlib.pyplot on the Agg backend, or None (with a message) when matplotlib is not
+    installed: the PNGs are optional, the ParaView series are not."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("  PNG skipped: matplotlib is not installed (pip install 'corotate[plot]')")
+        return None
+    return plt
+
+
 def stvk_sheet(out="corotate-scenes", cells: int = 16, frames: int = 240,
                integrator: str = "symplectic_euler") -> ExplicitSimulation:
     """The explainer's demo: a 2D St. Venant-Kirchhoff sheet of linear triangles, 1 x 1 m in
@@ -105,13 +119,8 @@ def stvk_sheet(out="corotate-scenes", cells: int = 16, frames: int = 240,
 def plot_sheet(mesh: Mesh, positions, path, title: str = "") -> Path | None:
     """Draw a sheet in the x-z plane (its triangles at positions (n, 3)) into a PNG; returns
     the path, or None when matplotlib is not installed."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("  PNG skipped: matplotlib is not installed (pip install 'corotate[plot]')")
+    plt = pyplot()
+    if plt is None:
         return None
     x = np.asarray(positions)
     fig, ax = plt.subplots(figsize=(6, 6))
@@ -129,15 +138,10 @@ def plot_sheet(mesh: Mesh, positions, path, title: str = "") -> Path | None:
 def plot_springs(body: MassSpringBody, positions, path, title: str = "") -> Path | None:
     """Draw the springs at positions (n, 3) into a PNG at path; returns the path, or None
     (with a message) when matplotlib is not installed."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from mpl_toolkits.mplot3d.art3d import Line3DCollection
-    except ImportError:
-        print("  PNG skipped: matplotlib is not installed (pip install 'corotate[plot]')")
+    plt = pyplot()
+    if plt is None:
         return None
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
     x = np.asarray(positions)
     keep = body.kinds != 2  # bending springs / room diagonals only clutter the picture
     segments = x[body.springs[keep]]

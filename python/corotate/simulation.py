@@ -5,13 +5,14 @@ import numpy as np
 
 from . import _core
 from .body import Body
+from .driven_body import DrivenBody
 from .solvers import PCG, Direct
 
 MASS_KINDS = ("consistent", "lumped")
 INTEGRATORS = ("linearized", "newton")
 
 
-class Simulation:
+class Simulation(DrivenBody):
     """Implicit (backward Euler) simulation of one body.
 
     body        Body
@@ -60,72 +61,13 @@ class Simulation:
         model, cell_type, points, cells, material, thickness, project_psd = body._model_spec()
         self._sim = _core.Simulation(model, cell_type, points, cells, material, settings, kind, pcg,
                                      thickness=thickness, project_psd=project_psd)
+        self._rest = body.mesh.points
         self.gravity = gravity
-
-    # --- state ----------------------------------------------------------------------
-    @property
-    def positions(self) -> np.ndarray:
-        """(n, 3) current node positions (a writable view)."""
-        return self._sim.positions
-
-    @property
-    def velocities(self) -> np.ndarray:
-        """(n, 3) current node velocities (a writable view)."""
-        return self._sim.velocities
-
-    @property
-    def external_forces(self) -> np.ndarray:
-        """(n, 3) external nodal forces [N], kept between steps (a writable view)."""
-        return self._sim.external_forces
-
-    @property
-    def displacements(self) -> np.ndarray:
-        """(n, 3) positions minus rest positions (a new array)."""
-        return self.positions - self.body.mesh.points
-
-    @property
-    def time(self) -> float:
-        """Simulated time [s]."""
-        return self._sim.time
 
     @property
     def dt(self) -> float:
+        """Time step [s]."""
         return self._sim.settings.time_step
-
-    @property
-    def gravity(self) -> np.ndarray:
-        """(3,) gravitational acceleration [m/s^2]."""
-        return np.array(self._sim.gravity)
-
-    @gravity.setter
-    def gravity(self, g):
-        g = np.asarray(g, dtype=np.float64)
-        if g.shape != (3,):
-            raise ValueError("gravity must be a 3-vector")
-        self._sim.gravity = g
-
-    # --- constraints ------------------------------------------------------------------
-    def fix(self, nodes) -> None:
-        """Fix the given nodes (int indices or a boolean mask) in all three axes.
-
-        Replaces the previous fixed set. Fixed nodes keep the positions and velocities they
-        have; writing into ``positions`` between steps prescribes their motion."""
-        nodes = np.asarray(nodes)
-        if nodes.dtype == bool:
-            if nodes.shape != (self.body.n_nodes,):
-                raise ValueError("a boolean node mask needs one entry per node")
-            nodes = np.flatnonzero(nodes)
-        if nodes.size and not np.issubdtype(nodes.dtype, np.integer):
-            raise ValueError("node indices must be integers")
-        self._sim.fixed_nodes = [int(i) for i in nodes.ravel()]
-
-    def free(self) -> None:
-        """Release all fixed nodes."""
-        self._sim.fixed_nodes = []
-
-    @property
-    def fixed_nodes(self) -> np.ndarray:
-        return np.array(self._sim.fixed_nodes, dtype=np.int64)
 
     # --- stepping ---------------------------------------------------------------------
     def step(self, n: int = 1) -> None:
@@ -154,14 +96,6 @@ class Simulation:
                 raise ValueError(f"prescribed must have shape ({self.body.n_nodes}, 3), got {prescribed.shape}")
         return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations), prescribed)
 
-    def internal_forces(self) -> np.ndarray:
-        """(n, 3) internal elastic forces at the current positions."""
-        return self._sim.internal_forces()
-
-    def energy(self) -> float:
-        """Elastic energy at the current positions."""
-        return self._sim.energy()
-
     def kinetic_energy(self) -> float:
         """1/2 v^T M v with the simulation's mass matrix kind."""
         v = self.velocities.ravel()
@@ -174,6 +108,3 @@ class Simulation:
         steps since reset_stats(): steps, iterations_per_step, ms_per_step,
         simulated_time, wall_time [s] and real_time_ratio (simulated / wall time)."""
         return self._sim.stats
-
-    def reset_stats(self) -> None:
-        self._sim.reset_stats()

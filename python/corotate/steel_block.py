@@ -19,6 +19,7 @@ from .body import Body
 from .material import Material
 from .mesh import box
 from .simulation import Simulation
+from .scenes import pyplot
 from .solvers import Direct
 
 MODELS = ("linear", "corotational", "stvk")
@@ -66,13 +67,8 @@ def write_csv(result: dict, path) -> Path:
 
 def plot(result: dict, path) -> Path | None:
     """The paper's Fig. 4: corner displacement in x, y and z against the load (PNG)."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("  PNG skipped: matplotlib is not installed (pip install 'corotate[plot]')")
+    plt = pyplot()
+    if plt is None:
         return None
     labels = {"linear": "linear", "corotational": "co-rotational", "stvk": "full nonlinear (StVK)"}
     styles = {"linear": "k--", "corotational": "C0-o", "stvk": "C3-s"}

@@ -34,4 +34,8 @@ inline Eigen::Map<const Vec> as_dofs(const Nodes& x) { return {x.data(), x.size(
 // Index of the first non-finite column, or -1 when all entries are finite.
 Index first_non_finite_node(const Nodes& x);
 
+// Throws InvalidInput naming the first node whose position, velocity or external force is
+// not finite (what every simulation checks before it steps).
+void check_finite_state(const Nodes& positions, const Nodes& velocities, const Nodes& external_forces);
+
 }  // namespace corotate

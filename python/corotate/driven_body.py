@@ -1,0 +1,80 @@
+"""What every simulation object shares: the zero-copy state views, gravity and fixed nodes."""
+from __future__ import annotations
+
+import numpy as np
+
+
+class DrivenBody:
+    """Base of Simulation and ExplicitSimulation. Subclasses set ``self._sim`` (the C++
+    simulation), ``self.body`` and ``self._rest`` ((n, 3) rest positions)."""
+
+    @property
+    def positions(self) -> np.ndarray:
+        """(n, 3) current node positions (a writable view)."""
+        return self._sim.positions
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """(n, 3) current node velocities (a writable view)."""
+        return self._sim.velocities
+
+    @property
+    def external_forces(self) -> np.ndarray:
+        """(n, 3) external nodal forces [N], kept between steps (a writable view)."""
+        return self._sim.external_forces
+
+    @property
+    def displacements(self) -> np.ndarray:
+        """(n, 3) positions minus rest positions (a new array)."""
+        return self.positions - self._rest
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self._sim.time
+
+    @property
+    def gravity(self) -> np.ndarray:
+        """(3,) gravitational acceleration [m/s^2]."""
+        return np.array(self._sim.gravity)
+
+    @gravity.setter
+    def gravity(self, g):
+        g = np.asarray(g, dtype=np.float64)
+        if g.shape != (3,):
+            raise ValueError("gravity must be a 3-vector")
+        self._sim.gravity = g
+
+    def fix(self, nodes) -> None:
+        """Fix the given nodes (int indices or a boolean mask) in all three axes, replacing
+        the previous set. Fixed nodes feel no force and keep the velocity they have (zero
+        unless set); writing into ``positions``/``velocities`` between steps prescribes
+        their motion."""
+        nodes = np.asarray(nodes)
+        if nodes.dtype == bool:
+            if nodes.shape != (self.body.n_nodes,):
+                raise ValueError("a boolean node mask needs one entry per node")
+            nodes = np.flatnonzero(nodes)
+        if nodes.size and not np.issubdtype(nodes.dtype, np.integer):
+            raise ValueError("node indices must be integers")
+        self._sim.fixed_nodes = [int(i) for i in nodes.ravel()]
+
+    def free(self) -> None:
+        """Release all fixed nodes."""
+        self._sim.fixed_nodes = []
+
+    @property
+    def fixed_nodes(self) -> np.ndarray:
+        return np.array(self._sim.fixed_nodes, dtype=np.int64)
+
+    def internal_forces(self) -> np.ndarray:
+        """(n, 3) internal elastic forces at the current positions."""
+        return self._sim.internal_forces()
+
+    def energy(self) -> float:
+        """Elastic energy at the current positions."""
+        return self._sim.energy()
+
+    def reset_stats(self) -> None:
+        """Start the statistics afresh."""
+        self._sim.reset_stats()
