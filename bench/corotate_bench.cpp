@@ -181,7 +181,8 @@ int main(int argc, char** argv) {
       else throw InvalidInput("unknown option " + arg + " (see --help)");
     }
     std::vector<std::pair<std::string, bench::TetMesh>> meshes;
-    if (!opt.mesh_path.empty()) meshes.emplace_back(opt.mesh_path, bench::read_tetgen(opt.mesh_path));
+    if (!opt.mesh_path.empty())  // label: the file name without folders
+      meshes.emplace_back(opt.mesh_path.substr(opt.mesh_path.find_last_of("/\\") + 1), bench::read_tetgen(opt.mesh_path));
     else
       for (int s : opt.sizes)
         meshes.emplace_back("beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),
