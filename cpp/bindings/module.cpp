@@ -129,6 +129,14 @@ PYBIND11_MODULE(_core, m) {
         self.add_stiffness(1.0, K);
         return to_csr(K);
       }, py::arg("positions"), "Stiffness at positions as a CSR triple (data, indices, indptr).")
+      .def("tangent_csr", [](ForceModel& self, const PointsIn& x) {
+        const Nodes X = checked_positions(self, x);
+        self.update(X);
+        BlockSparseMatrix K = self.pattern();
+        K.set_zero();
+        self.add_tangent_stiffness(X, 1.0, K);
+        return to_csr(K);
+      }, py::arg("positions"), "Exact tangent -df/dx at positions as a CSR triple (see add_tangent_stiffness).")
       .def("mass_csr", [](ForceModel& self, bool lumped) { return to_csr(self.mass_matrix(lumped)); }, py::arg("lumped"));
 
   py::class_<BlockSparseMatrix>(m, "BlockSparseMatrix")

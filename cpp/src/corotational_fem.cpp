@@ -47,6 +47,50 @@ void add_tet_stiffness(const ElementSet<Tet4>& set, const Mat3& R, double lambda
     }
 }
 
+// Exact tangent of a co-rotated tet. With P(F) = R sigma(sym(R^T F) - I) the element force
+// is f_a = -V P g_a (g_a = dN_a/dX), so K_ab = V dP[dF = e_j g_b^T] g_a column by column.
+// For the polar rotation R^T F = S stays symmetric, which fixes dR = R [theta]x through
+//   (tr(S) I - S) theta = vee(W - W^T),  W = R^T dF,
+// and then dP = R ([theta]x sigma + dsigma), dsigma = sigma(sym(W - [theta]x S)).
+// Returns false (nothing added) where tr(S) I - S is near singular (inverted elements).
+bool add_tet_tangent(const ElementSet<Tet4>& set, const Mat3& R, double lambda, double mu, Index e, const Nodes& x,
+                     double scale, BlockSparseMatrix& A) {
+  const auto& el = set.element(e);
+  const auto& G = el.centre_gradient;
+  const int* nodes = &set.cells()(e, 0);
+  Mat3 F = Mat3::Zero();
+  for (int a = 0; a < 4; ++a) F.noalias() += x.col(nodes[a]) * G.row(a);
+  Mat3 S = R.transpose() * F;
+  S = 0.5 * (S + S.transpose()).eval();
+  Mat3 H = -S;
+  H.diagonal().array() += S.trace();
+  Eigen::LDLT<Mat3> ldlt(H);
+  const double h_min = ldlt.vectorD().minCoeff(), h_max = ldlt.vectorD().maxCoeff();
+  if (!(h_min > 1e-8 * h_max)) return false;
+  Mat3 strain = S;
+  strain.diagonal().array() -= 1.0;
+  const Mat3 sigma = linear_stress(strain, lambda, mu);
+  const double v = scale * el.volume;
+  Eigen::Matrix<double, 12, 12> K;
+  for (int b = 0; b < 4; ++b)
+    for (int j = 0; j < 3; ++j) {
+      const Mat3 W = R.row(j).transpose() * G.row(b);  // R^T (e_j g_b^T)
+      const Mat3 skew = W - W.transpose();
+      const Vec3 theta = ldlt.solve(Vec3(skew(2, 1), skew(0, 2), skew(1, 0)));
+      Mat3 T;  // [theta]x
+      T << 0, -theta.z(), theta.y(), theta.z(), 0, -theta.x(), -theta.y(), theta.x(), 0;
+      Mat3 d_strain = W - T * S;
+      d_strain = 0.5 * (d_strain + d_strain.transpose()).eval();
+      const Mat3 dP = R * (T * sigma + linear_stress(d_strain, lambda, mu));
+      for (int a = 0; a < 4; ++a) K.block<3, 1>(3 * a, 3 * b + j) = v * dP * G.row(a).transpose();
+    }
+  K = 0.5 * (K + K.transpose()).eval();  // exact symmetry (the co-rotated tet force is a gradient)
+  const int* ids = set.block_ids(e);
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) A.block(ids[a * 4 + b]) += K.block<3, 3>(3 * a, 3 * b);
+  return true;
+}
+
 }  // namespace
 
 template <class E>
@@ -144,6 +188,15 @@ double CorotationalFEM<E>::energy(const Nodes& x) const {
     }
   }
   return total;
+}
+
+template <class E>
+void CorotationalFEM<E>::add_tangent_stiffness(const Nodes& x, double scale, BlockSparseMatrix& A) const {
+  for (Index e = 0; e < this->elements_.num_elements(); ++e) {
+    if constexpr (kTetKernel)
+      if (add_tet_tangent(this->elements_, rotations_[e], lambda_, mu_, e, x, scale, A)) continue;
+    add_element_stiffness(e, scale, A);
+  }
 }
 
 template class CorotationalFEM<Tet4>;

@@ -54,7 +54,8 @@ StepStats ImplicitEuler::newton_step(const Nodes& x, const Nodes& v, const Nodes
     // gradient g = M (x - target)/dt^2 + alpha M (x - x_n)/dt - f(x) - f_ext, kept in force_ as -g
     force_ = f_ext;
     system_.assign_scaled(mass_coef, mass_);
-    model_.add_linearized_forces_and_stiffness(x_new, force_, 1.0, system_);
+    model_.add_forces(x_new, force_);
+    model_.add_tangent_stiffness(x_new, 1.0, system_);  // exact where the model has it
     rhs_ = as_dofs(x_new) - as_dofs(target_);
     mass_.multiply(rhs_, work_);
     as_dofs(force_) -= work_ / (dt * dt);
@@ -78,7 +79,17 @@ StepStats ImplicitEuler::newton_step(const Nodes& x, const Nodes& v, const Nodes
     }
     fixed.project(system_);
     dv_.setZero();  // the Newton increment; no warm start across iterations
-    const SolveStats solve = solver.solve(system_, rhs_, dv_);
+    SolveStats solve;
+    try {
+      solve = solver.solve(system_, rhs_, dv_);
+    } catch (const SolverFailure&) {
+      // An indefinite exact tangent: fall back to the model's positive semi-definite stiffness.
+      system_.assign_scaled(mass_coef, mass_);
+      model_.add_stiffness(1.0, system_);
+      fixed.project(system_);
+      dv_.setZero();
+      solve = solver.solve(system_, rhs_, dv_);
+    }
     stats.solve.iterations += solve.iterations;
     stats.solve.relative_residual = solve.relative_residual;
     stats.solve.converged = solve.converged;

@@ -28,11 +28,10 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
   auto evaluate = [&](const Nodes& y, double lambda, BlockSparseMatrix* stiffness) {
     model.update(y);
     residual = lambda * load;
+    model.add_forces(y, residual);
     if (stiffness) {
       stiffness->set_zero();
-      model.add_linearized_forces_and_stiffness(y, residual, 1.0, *stiffness);  // at y itself: f(y)
-    } else {
-      model.add_forces(y, residual);
+      model.add_tangent_stiffness(y, 1.0, *stiffness);  // exact where the model has it
     }
     r = as_dofs(residual);
     fixed.project(r);
@@ -68,7 +67,17 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
       fixed.project(K);
       const Vec rhs = r;
       dx.setZero();
-      solver.solve(K, rhs, dx);
+      try {
+        solver.solve(K, rhs, dx);
+      } catch (const SolverFailure&) {
+        // The exact tangent can be indefinite far from equilibrium (compressed or strongly
+        // rotated elements); the model's positive semi-definite stiffness still points the way.
+        K.set_zero();
+        model.add_stiffness(1.0, K);
+        fixed.project(K);
+        dx.setZero();
+        solver.solve(K, rhs, dx);
+      }
       // Guard against blow-up: with the R K R^T tangent the residual may rise for an
       // iteration and still converge, so only a step that makes it non-finite or ten times
       // larger is halved (a strict descent rule on |r| stalls those iterations).

@@ -98,6 +98,13 @@ class Body:
         (paper eq. 6). Raises ValueError for "linear" and "corotational"."""
         return _csr(_core.geometric_stiffness_csr(self._force_model, self._check_positions(positions)), 3 * self.n_nodes)
 
+    def tangent_matrix(self, positions=None) -> sp.csr_matrix:
+        """The exact tangent -df/dx (3n x 3n) at positions (default: rest): for co-rotated
+        tets it includes the derivative of the rotations, which stiffness_matrix leaves out;
+        for the other models it equals stiffness_matrix."""
+        x = self.mesh.points if positions is None else self._check_positions(positions)
+        return _csr(self._force_model.tangent_csr(x), 3 * self.n_nodes)
+
     def mass_matrix(self, lumped: bool = False) -> sp.csr_matrix:
         """Consistent (default) or lumped mass matrix (3n x 3n)."""
         return _csr(self._force_model.mass_csr(bool(lumped)), 3 * self.n_nodes)

@@ -31,6 +31,10 @@ class CorotationalFEM final : public FEModel<E> {
   void add_linearized_forces(const Nodes& y, Nodes& f) const override { add_forces(y, f); }
   void add_linearized_forces_and_stiffness(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix& A) const override;
   double energy(const Nodes& x) const override;
+  // Tets: the exact derivative of eq. (3)'s forces, rotation terms included (consistent
+  // tangent of the polar rotation); elements whose rotation derivative is singular (inverted
+  // or degenerate) and hexes fall back to R K_e R^T.
+  void add_tangent_stiffness(const Nodes& x, double scale, BlockSparseMatrix& A) const override;
 
   // R_e of the last update (3 x 3 per element).
   const std::vector<Mat3>& rotations() const { return rotations_; }

@@ -29,6 +29,12 @@ class ForceModel {
   virtual void add_forces(const Nodes& x, Nodes& f) const = 0;
   // A += scale * K, scattered into a matrix with pattern().
   virtual void add_stiffness(double scale, BlockSparseMatrix& A) const = 0;
+  // A += scale * (the exact derivative -df/dx at x, the state of the last update), for
+  // Newton solves that want quadratic convergence. Defaults to add_stiffness, which is exact
+  // for every model but the co-rotational one (whose R K_e R^T leaves out dR/dx).
+  virtual void add_tangent_stiffness(const Nodes& x, double scale, BlockSparseMatrix& A) const {
+    add_stiffness(scale, A);
+  }
   // f += f(x) - K (y - x): the force linearised about the state of the last update,
   // evaluated at y (3 x n). For the FE models here this is the force formula at y with the
   // rotations of x held fixed, so an implicit step gets its -K v term at no extra cost.
