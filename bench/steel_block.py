@@ -4,6 +4,7 @@
 
     python bench/steel_block.py --out steel-block
 """
+
 import argparse
 from pathlib import Path
 
@@ -13,7 +14,9 @@ from corotate.steel_block import MODELS, plot, steel_block, write_csv
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", default="steel-block", help="output folder (default: steel-block)")
-    parser.add_argument("--cells", type=int, nargs=3, default=(7, 7, 3), help="cubes per direction (default 7 7 3: 882 tets)")
+    parser.add_argument(
+        "--cells", type=int, nargs=3, default=(7, 7, 3), help="cubes per direction (default 7 7 3: 882 tets)"
+    )
     parser.add_argument("--levels", type=int, default=10, help="load levels (default 10)")
     args = parser.parse_args()
     out = Path(args.out)

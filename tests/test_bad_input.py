@@ -41,7 +41,7 @@ def assert_state(sim, snap):
 
 def test_missing_mesh_file(tmp_path):
     path = tmp_path / "no_such_mesh.vtu"
-    with pytest.raises(FileNotFoundError, match="no_such_mesh.vtu"):
+    with pytest.raises(FileNotFoundError, match=r"no_such_mesh\.vtu"):
         cr.read_mesh(path)
     with pytest.raises(FileNotFoundError, match=r"no_such_mesh\.node"):
         cr.read_mesh(tmp_path / "no_such_mesh.ele")
@@ -51,7 +51,9 @@ def test_mesh_file_with_only_triangles(tmp_path):
     path = tmp_path / "triangles.vtu"
     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], dtype=float)
     meshio.write(path, meshio.Mesh(points, [("triangle", np.array([[0, 1, 2], [1, 3, 2]]))]))
-    with pytest.raises(ValueError, match=r"no supported volume cells.*triangle.*supported: tetra, hexahedron, hexahedron20"):
+    with pytest.raises(
+        ValueError, match=r"no supported volume cells.*triangle.*supported: tetra, hexahedron, hexahedron20"
+    ):
         cr.read_mesh(path)
 
 
@@ -99,11 +101,14 @@ def test_zero_volume_hex():
         cr.Body(cr.Mesh(p, mesh.cells, "hexahedron"), MAT)
 
 
-@pytest.mark.parametrize("element,flip", [
-    ("hex8", [4, 5, 6, 7, 0, 1, 2, 3]),
-    ("tet4", [0, 2, 1, 3]),
-    ("hex20", [4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19]),
-])
+@pytest.mark.parametrize(
+    "element,flip",
+    [
+        ("hex8", [4, 5, 6, 7, 0, 1, 2, 3]),
+        ("tet4", [0, 2, 1, 3]),
+        ("hex20", [4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19]),
+    ],
+)
 def test_inverted_element(element, flip):
     mesh = cr.box((2, 1, 1), (2, 1, 1), element)
     cells = mesh.cells.copy()
@@ -181,7 +186,7 @@ def test_fix_index_out_of_range(bad):
 
 
 def test_fix_bad_mask_and_dtype():
-    mesh, sim = small_sim()
+    _mesh, sim = small_sim()
     with pytest.raises(ValueError, match="one entry per node"):
         sim.fix(np.ones(5, dtype=bool))
     with pytest.raises(ValueError, match="integers"):
@@ -193,7 +198,7 @@ def test_fix_bad_mask_and_dtype():
 
 @pytest.mark.parametrize("solver", [cr.PCG(tolerance=1e-12, max_iterations=200), cr.Direct()], ids=["pcg", "direct"])
 def test_nan_position_rejected_and_state_kept(solver):
-    mesh, sim = small_sim(solver)
+    _mesh, sim = small_sim(solver)
     sim.step(2)
     snap = snapshot(sim)
     good = sim.positions[13].copy()
@@ -217,7 +222,7 @@ def test_nan_position_rejected_and_state_kept(solver):
 
 
 def test_nan_velocity_and_force_rejected_and_state_kept():
-    mesh, sim = small_sim()
+    _mesh, sim = small_sim()
     sim.step(2)
     snap = snapshot(sim)
     sim.velocities[4, 0] = np.inf
@@ -248,7 +253,7 @@ def test_step_that_overflows_restores_state():
     snap = snapshot(sim)
     assert np.abs(sim.velocities).max() > 0
     sim.external_forces[-1] = (0.0, 0.0, 1e308)
-    with pytest.raises(RuntimeError, match="non-finite positions or velocities.*state was restored"):
+    with pytest.raises(RuntimeError, match=r"non-finite positions or velocities.*state was restored"):
         sim.step(3)
     assert_state(sim, snap)
     # and it carries on once the load is sane
@@ -284,7 +289,7 @@ def test_pcg_step_with_huge_finite_force_is_not_silently_skipped():
 
 
 def test_held_state_views_follow_the_state():
-    mesh, sim = small_sim(cr.Direct())
+    _mesh, sim = small_sim(cr.Direct())
     pos, vel = sim.positions, sim.velocities
     sim.step(1)
     np.testing.assert_array_equal(pos, sim.positions)
@@ -319,7 +324,7 @@ def test_bad_rayleigh_and_mass_kind():
 
 def test_unknown_model_and_preconditioner():
     mesh = cr.box((1, 1, 1), (1, 1, 1), "tet4")
-    with pytest.raises(ValueError, match="unknown model 'neo-hookean'.*corotational, linear"):
+    with pytest.raises(ValueError, match=r"unknown model 'neo-hookean'.*corotational, linear"):
         cr.Body(mesh, MAT, model="neo-hookean")
     with pytest.raises(ValueError, match="unknown model 'mooney-rivlin'"):
         _core.ForceModel("mooney-rivlin", "tetra", mesh.points, mesh.cells, MAT._core())
@@ -333,7 +338,7 @@ def test_unknown_model_and_preconditioner():
 
 
 def test_bad_gravity_and_step_count():
-    mesh, sim = small_sim()
+    _mesh, sim = small_sim()
     with pytest.raises(ValueError, match="gravity must be a 3-vector"):
         sim.gravity = (0.0, -9.81)
     with pytest.raises(ValueError, match="gravity must be finite"):
@@ -372,7 +377,9 @@ def test_static_solve_that_cannot_converge():
     sim.step(2)  # a non-rest state with velocities, to check both are kept
     snap = snapshot(sim)
     assert np.abs(sim.velocities).max() > 0
-    with pytest.raises(RuntimeError, match=r"did not converge in 1 iterations at load step 1 of 1; relative residuals: \d\S* \d"):
+    with pytest.raises(
+        RuntimeError, match=r"did not converge in 1 iterations at load step 1 of 1; relative residuals: \d\S* \d"
+    ):
         sim.solve_static(load_steps=1, max_iterations=1)
     assert_state(sim, snap)
     with pytest.raises(ValueError, match="load_steps"):

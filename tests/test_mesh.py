@@ -96,16 +96,14 @@ def test_tet4_six_tets_share_main_diagonal():
 def test_hex_corner_ordering_is_vtk(element):
     m = box(SIZE, CELLS, element)
     h = np.array(SIZE) / np.array(CELLS)
-    signs = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-                      [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
+    signs = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
     corners = m.points[m.cells[:, :8]]
     assert np.allclose(corners - corners[:, :1], signs * h)
 
 
 def test_hex20_mid_nodes_at_edge_midpoints():
     m = box(SIZE, CELLS, "hex20")
-    edges = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4),
-             (0, 4), (1, 5), (2, 6), (3, 7)]
+    edges = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7)]
     x = m.points[m.cells]
     for mid, (a, b) in enumerate(edges, start=8):
         assert np.allclose(x[:, mid], 0.5 * (x[:, a] + x[:, b]), atol=1e-14)
@@ -119,7 +117,7 @@ def test_beam_is_box_from_origin():
 
 
 def test_generator_argument_errors():
-    with pytest.raises(ValueError, match="unknown element 'tet10'.*tet4, hex8, hex20"):
+    with pytest.raises(ValueError, match=r"unknown element 'tet10'.*tet4, hex8, hex20"):
         box(element="tet10")
     with pytest.raises(ValueError, match="cells must be three integers >= 1"):
         box(cells=(1, 0, 1))
@@ -165,7 +163,7 @@ def test_mesh_rejects_bad_shapes_and_types():
         Mesh(np.zeros((4, 2)), [[0, 1, 2, 3]], "tetra")
     with pytest.raises(ValueError, match=r"must have shape \(m, 8\)"):
         Mesh(unit_tet().points, [[0, 1, 2, 3]], "hexahedron")
-    with pytest.raises(ValueError, match="unsupported cell type 'quad'.*tetra, hexahedron, hexahedron20"):
+    with pytest.raises(ValueError, match=r"unsupported cell type 'quad'.*tetra, hexahedron, hexahedron20"):
         Mesh(unit_tet().points, [[0, 1, 2, 3]], "quad")
 
 
@@ -185,7 +183,7 @@ def test_node_selection():
         m.nodes_on_plane("w", 0.0)
     with pytest.raises(ValueError, match="predicate must return a mask of shape"):
         m.nodes_where(lambda p: p[:3, 0] > 0)
-    with pytest.raises(ValueError, match="upper .* is below lower"):
+    with pytest.raises(ValueError, match=r"upper .* is below lower"):
         m.nodes_in_box([1, 1, 1], [0, 2, 2])
 
 
@@ -281,10 +279,10 @@ def test_unused_nodes_are_removed_with_warning(tmp_path):
 
 def test_read_missing_file_names_path(tmp_path):
     missing = tmp_path / "nope.vtu"
-    with pytest.raises(FileNotFoundError, match="nope.vtu"):
+    with pytest.raises(FileNotFoundError, match=r"nope\.vtu"):
         read_mesh(missing)
     (tmp_path / "half.node").write_text("1 3 0 0\n0 0 0 0\n")
-    with pytest.raises(FileNotFoundError, match="half.ele"):
+    with pytest.raises(FileNotFoundError, match=r"half\.ele"):
         read_mesh(tmp_path / "half.node")
 
 
@@ -300,7 +298,7 @@ def test_read_mixed_volume_types_is_rejected(tmp_path):
     pts = np.vstack([h.points, t.points])
     f = tmp_path / "mixed.vtu"
     meshio.write(f, meshio.Mesh(pts, [("hexahedron", h.cells), ("tetra", t.cells + 8)]))
-    with pytest.raises(ValueError, match="mixes volume cell types.*one element type per body"):
+    with pytest.raises(ValueError, match=r"mixes volume cell types.*one element type per body"):
         read_mesh(f)
 
 
@@ -329,8 +327,7 @@ def test_time_series_writer(tmp_path):
     frames = [mesh.points + 0.1 * rng.standard_normal(mesh.points.shape) for _ in times]
     with TimeSeriesWriter(pvd, mesh) as w:
         for i, (t, x) in enumerate(zip(times, frames)):
-            w.write(t, x, point_data={"speed": np.full(mesh.n_nodes, float(i)),
-                                      "velocity": np.ones((mesh.n_nodes, 3))})
+            w.write(t, x, point_data={"speed": np.full(mesh.n_nodes, float(i)), "velocity": np.ones((mesh.n_nodes, 3))})
             # The index is valid and complete after every frame, before close().
             assert [tt for tt, _ in read_pvd(pvd)] == times[: i + 1]
     entries = read_pvd(pvd)

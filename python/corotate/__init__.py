@@ -11,15 +11,33 @@ tet/hex mesh) stepped explicitly with a safe time step (MassSpringBody, Explicit
     sim.fix(mesh.nodes_on_plane("x", 0.0))
     sim.step(5)
 """
-from .mesh import Mesh, beam, box, rectangle, read_mesh, write_mesh
-from .output import TimeSeriesWriter
-from .material import Material
-from .body import Body
-from .solvers import PCG, Direct
-from .simulation import Simulation
-from .mass_spring import MassSpringBody, SpringGeometry
-from .explicit import ExplicitSimulation
 
-__all__ = ["Mesh", "beam", "box", "rectangle", "read_mesh", "write_mesh", "TimeSeriesWriter", "Material", "Body", "PCG",
-           "Direct", "Simulation", "MassSpringBody", "SpringGeometry", "ExplicitSimulation"]
+from __future__ import annotations
+
+from .body import Body
+from .explicit import ExplicitSimulation
+from .mass_spring import MassSpringBody, SpringGeometry
+from .material import Material
+from .mesh import Mesh, beam, box, read_mesh, rectangle, write_mesh
+from .output import TimeSeriesWriter
+from .simulation import Simulation
+from .solvers import PCG, Direct
+
+__all__ = [
+    "Mesh",
+    "beam",
+    "box",
+    "rectangle",
+    "read_mesh",
+    "write_mesh",
+    "TimeSeriesWriter",
+    "Material",
+    "Body",
+    "PCG",
+    "Direct",
+    "Simulation",
+    "MassSpringBody",
+    "SpringGeometry",
+    "ExplicitSimulation",
+]
 __version__ = "0.1.0"

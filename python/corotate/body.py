@@ -1,19 +1,26 @@
 """A deformable body: a mesh, a material and a force model."""
+
 from __future__ import annotations
+
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 
-from . import _core
+import corotate._core as _core
+
 from .material import Material
 from .mesh import Mesh
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 MODELS = ("corotational", "linear", "stvk", "neohookean", "corotated")
 #: Models that are full geometrically nonlinear (hyperelastic, total Lagrangian).
 HYPERELASTIC_MODELS = ("stvk", "neohookean", "corotated")
 
 
-def _csr(triple, n_dofs: int) -> sp.csr_matrix:
+def _csr(triple: tuple[np.ndarray, np.ndarray, np.ndarray], n_dofs: int) -> sp.csr_matrix:
     data, indices, indptr = triple
     return sp.csr_matrix((data, indices, indptr), shape=(n_dofs, n_dofs))
 
@@ -40,8 +47,14 @@ class Body:
     elements (zero-area triangles) raise ValueError naming the element.
     """
 
-    def __init__(self, mesh: Mesh, material: Material, model: str = "corotational", thickness=None,
-                 project_psd: bool = False):
+    def __init__(
+        self,
+        mesh: Mesh,
+        material: Material,
+        model: str = "corotational",
+        thickness: float | None = None,
+        project_psd: bool = False,
+    ) -> None:
         if not isinstance(mesh, Mesh):
             raise TypeError("mesh must be a corotate.Mesh (see corotate.read_mesh, corotate.box)")
         if not isinstance(material, Material):
@@ -66,22 +79,29 @@ class Body:
     def _model_spec(self) -> tuple:
         """Arguments that build this body's C++ force model (simulations build their own)."""
         mesh = self.mesh
-        return (self.model, mesh.cell_type, mesh.points, mesh.cells, self.material._core(),
-                1.0 if self.thickness is None else self.thickness, self.project_psd)
+        return (
+            self.model,
+            mesh.cell_type,
+            mesh.points,
+            mesh.cells,
+            self.material._core(),
+            1.0 if self.thickness is None else self.thickness,
+            self.project_psd,
+        )
 
     @property
     def n_nodes(self) -> int:
         return self.mesh.n_nodes
 
-    def internal_forces(self, positions) -> np.ndarray:
+    def internal_forces(self, positions: ArrayLike) -> np.ndarray:
         """Internal elastic forces (n, 3) at positions (n, 3)."""
         return self._force_model.internal_forces(self._check_positions(positions))
 
-    def energy(self, positions) -> float:
+    def energy(self, positions: ArrayLike) -> float:
         """Elastic energy at positions (n, 3)."""
         return self._force_model.energy(self._check_positions(positions))
 
-    def stiffness_matrix(self, positions=None) -> sp.csr_matrix:
+    def stiffness_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
         """Stiffness K (3n x 3n, DOF = 3*node + axis) at positions (default: rest).
 
         For the co-rotational model this is the rotated stiffness sum R_e K_e R_e^T; for the
@@ -90,15 +110,17 @@ class Body:
         x = self.mesh.points if positions is None else self._check_positions(positions)
         return _csr(self._force_model.stiffness_csr(x), 3 * self.n_nodes)
 
-    def geometric_stiffness(self, positions) -> sp.csr_matrix:
+    def geometric_stiffness(self, positions: ArrayLike | None) -> sp.csr_matrix:
         """Initial-stress (geometric) stiffness K_sigma at positions (n, 3), hyperelastic models.
 
         K_sigma has blocks sum_q w_q (G_a^T S G_b) I_3 (S the second Piola-Kirchhoff stress,
         G_a = dN_a/dX at quadrature point q), the stress part of K_T = K_0 + K_u + K_sigma
         (paper eq. 6). Raises ValueError for "linear" and "corotational"."""
-        return _csr(_core.geometric_stiffness_csr(self._force_model, self._check_positions(positions)), 3 * self.n_nodes)
+        return _csr(
+            _core.geometric_stiffness_csr(self._force_model, self._check_positions(positions)), 3 * self.n_nodes
+        )
 
-    def tangent_matrix(self, positions=None) -> sp.csr_matrix:
+    def tangent_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
         """The exact tangent -df/dx (3n x 3n) at positions (default: rest): for co-rotated
         tets it includes the derivative of the rotations, which stiffness_matrix leaves out;
         for the other models it equals stiffness_matrix."""
@@ -109,7 +131,7 @@ class Body:
         """Consistent (default) or lumped mass matrix (3n x 3n)."""
         return _csr(self._force_model.mass_csr(bool(lumped)), 3 * self.n_nodes)
 
-    def _check_positions(self, positions) -> np.ndarray:
+    def _check_positions(self, positions: ArrayLike | None) -> np.ndarray:
         x = np.ascontiguousarray(positions, dtype=np.float64)
         if x.shape != (self.n_nodes, 3):
             raise ValueError(f"positions must have shape ({self.n_nodes}, 3), got {x.shape}")

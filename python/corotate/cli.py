@@ -1,17 +1,19 @@
 """Command line: ``corotate demo`` (the main job), ``corotate scenes`` (mass-spring) and ``corotate bench``."""
+
 from __future__ import annotations
 
 import argparse
 import os
 import subprocess
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 
-def _demo(args) -> int:
-    from . import Body, Material, PCG, Simulation, TimeSeriesWriter, beam, read_mesh
+def _demo(args: argparse.Namespace) -> int:
+    from . import PCG, Body, Material, Simulation, TimeSeriesWriter, beam, read_mesh
 
     if args.mesh:
         mesh = read_mesh(args.mesh)
@@ -28,8 +30,10 @@ def _demo(args) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     pvd = out / "demo.pvd"
-    print(f"corotate demo: {mesh.n_cells} {mesh.cell_type} cells, {mesh.n_nodes} nodes, {len(fixed)} fixed; "
-          f"{args.model} model, dt = {args.dt} s, {args.steps_per_frame} steps per frame, {args.frames} frames")
+    print(
+        f"corotate demo: {mesh.n_cells} {mesh.cell_type} cells, {mesh.n_nodes} nodes, {len(fixed)} fixed; "
+        f"{args.model} model, dt = {args.dt} s, {args.steps_per_frame} steps per frame, {args.frames} frames"
+    )
     with TimeSeriesWriter(pvd, mesh) as writer:
         writer.write(sim.time, sim.positions, {"velocity": sim.velocities})
         for _ in range(args.frames):
@@ -37,15 +41,17 @@ def _demo(args) -> int:
             writer.write(sim.time, sim.positions, {"velocity": sim.velocities})
     s = sim.stats
     far = mesh.points[:, axis] >= mesh.points[:, axis].max() - 1e-9 * extent
-    print(f"  simulated {s['simulated_time']:.2f} s in {s['wall_time']:.3f} s of stepping: "
-          f"real-time ratio {s['real_time_ratio']:.1f}, {s['ms_per_step']:.3f} ms per step, "
-          f"{s['iterations_per_step']:.2f} CG iterations per step")
+    print(
+        f"  simulated {s['simulated_time']:.2f} s in {s['wall_time']:.3f} s of stepping: "
+        f"real-time ratio {s['real_time_ratio']:.1f}, {s['ms_per_step']:.3f} ms per step, "
+        f"{s['iterations_per_step']:.2f} CG iterations per step"
+    )
     print(f"  far-end mean displacement z: {sim.displacements[far, 2].mean():+.4f} m")
     print(f"  wrote {pvd} ({args.frames + 1} frames; open it in ParaView, colour by 'displacement')")
     return 0
 
 
-def _scenes(args) -> int:
+def _scenes(args: argparse.Namespace) -> int:
     from . import scenes
 
     names = ["cloth", "cube", "sheet"] if args.scene == "all" else [args.scene]
@@ -55,12 +61,14 @@ def _scenes(args) -> int:
         scenes.dropped_cube(args.out, cells=args.cube_cells, frames=args.frames, integrator=args.integrator)
     if "sheet" in names:
         scenes.stvk_sheet(args.out, frames=args.frames)
-    print("  open the .pvd files in ParaView (the cloth as quads, the cube as hexahedra, the sheet as triangles; "
-          "colour by 'displacement')")
+    print(
+        "  open the .pvd files in ParaView (the cloth as quads, the cube as hexahedra, the sheet as triangles; "
+        "colour by 'displacement')"
+    )
     return 0
 
 
-def _bench(args) -> int:
+def _bench(args: argparse.Namespace) -> int:
     exe = Path(__file__).parent / "bin" / ("corotate_bench.exe" if os.name == "nt" else "corotate_bench")
     if not exe.exists():
         print(f"corotate bench: the benchmark executable is not installed at {exe}", file=sys.stderr)
@@ -70,61 +78,79 @@ def _bench(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="corotate",
-        description="Fast co-rotational FEM simulation of elastic solids.")
+        prog="corotate", description="Fast co-rotational FEM simulation of elastic solids."
+    )
     sub = parser.add_subparsers(dest="command", required=True)
 
     demo = sub.add_parser(
-        "demo", help="run the default scene and write a ParaView time series",
+        "demo",
+        help="run the default scene and write a ParaView time series",
         description="A soft cantilever (5 x 1 x 1 m, clamped at x = 0) falls under gravity: co-rotational FEM, "
-                    "implicit steps of dt = 0.01 s, five steps per frame as in the paper's Table 1. Writes "
-                    "OUT/demo.pvd (+ one .vtu per frame, with displacement and velocity) and prints the "
-                    "real-time ratio. With --mesh, the same on any tetra/hexahedron/hexahedron20 mesh file.")
+        "implicit steps of dt = 0.01 s, five steps per frame as in the paper's Table 1. Writes "
+        "OUT/demo.pvd (+ one .vtu per frame, with displacement and velocity) and prints the "
+        "real-time ratio. With --mesh, the same on any tetra/hexahedron/hexahedron20 mesh file.",
+    )
     demo.add_argument("--out", default="corotate-demo", help="output folder (default: corotate-demo)")
     demo.add_argument("--frames", type=int, default=60, help="frames to write (default 60)")
     demo.add_argument("--steps-per-frame", type=int, default=5, help="time steps per frame (default 5)")
     demo.add_argument("--dt", type=float, default=0.01, help="time step in seconds (default 0.01)")
     demo.add_argument("--mesh", help="mesh file (.vtu, .msh, TetGen .node/.ele, ...) instead of the beam")
-    demo.add_argument("--cells", type=int, default=4, help="beam cross-section cells (beam: 5c x c x c cubes; default 4)")
+    demo.add_argument(
+        "--cells", type=int, default=4, help="beam cross-section cells (beam: 5c x c x c cubes; default 4)"
+    )
     demo.add_argument("--length", type=float, default=5.0, help="beam length in m (default 5)")
-    demo.add_argument("--element", default="tet4", choices=["tet4", "hex8", "hex20"], help="beam element (default tet4)")
+    demo.add_argument(
+        "--element", default="tet4", choices=["tet4", "hex8", "hex20"], help="beam element (default tet4)"
+    )
     demo.add_argument("--model", default="corotational", choices=["corotational", "linear"], help="force model")
     demo.add_argument("--E", type=float, default=1e6, help="Young's modulus in Pa (default 1e6: soft)")
     demo.add_argument("--nu", type=float, default=0.3, help="Poisson ratio (default 0.3)")
     demo.add_argument("--density", type=float, default=1000.0, help="density in kg/m^3 (default 1000)")
-    demo.add_argument("--fix-axis", default="x", choices=["x", "y", "z"], help="clamp the nodes at the minimum of this axis")
-    demo.add_argument("--fix-fraction", type=float, default=0.0,
-                      help="clamp nodes within this fraction of the mesh size of that minimum (default 0)")
+    demo.add_argument(
+        "--fix-axis", default="x", choices=["x", "y", "z"], help="clamp the nodes at the minimum of this axis"
+    )
+    demo.add_argument(
+        "--fix-fraction",
+        type=float,
+        default=0.0,
+        help="clamp nodes within this fraction of the mesh size of that minimum (default 0)",
+    )
     demo.set_defaults(func=_demo)
 
     scenes = sub.add_parser(
-        "scenes", help="explicit scenes: a cloth hanging from two corners, a soft cube dropped on a base, "
-                       "a StVK sheet swinging",
+        "scenes",
+        help="explicit scenes: a cloth hanging from two corners, a soft cube dropped on a base, a StVK sheet swinging",
         description="Bodies stepped explicitly (frames of 1/60 s, sub-stepped at the critical time step): a "
-                    "mass-spring cloth pinned at two corners falls and swings; a soft mass-spring cube lattice "
-                    "lands on a pinned base; the explainer's 2D St. Venant-Kirchhoff sheet of triangles swings "
-                    "from two corners (symplectic Euler). Writes OUT/cloth.pvd, OUT/cube.pvd and OUT/sheet.pvd "
-                    "(+ .vtu frames) and a PNG of each last frame "
-                    "(PNG needs matplotlib: pip install 'corotate[plot]').")
-    scenes.add_argument("scene", nargs="?", default="all", choices=["all", "cloth", "cube", "sheet"],
-                        help="which scene (default all)")
+        "mass-spring cloth pinned at two corners falls and swings; a soft mass-spring cube lattice "
+        "lands on a pinned base; the explainer's 2D St. Venant-Kirchhoff sheet of triangles swings "
+        "from two corners (symplectic Euler). Writes OUT/cloth.pvd, OUT/cube.pvd and OUT/sheet.pvd "
+        "(+ .vtu frames) and a PNG of each last frame "
+        "(PNG needs matplotlib: pip install 'corotate[plot]').",
+    )
+    scenes.add_argument(
+        "scene", nargs="?", default="all", choices=["all", "cloth", "cube", "sheet"], help="which scene (default all)"
+    )
     scenes.add_argument("--out", default="corotate-scenes", help="output folder (default: corotate-scenes)")
     scenes.add_argument("--frames", type=int, default=240, help="frames of 1/60 s (default 240)")
     scenes.add_argument("--cloth-size", type=int, default=32, help="cloth particles per side (default 32)")
     scenes.add_argument("--cube-cells", type=int, default=6, help="cube lattice cells per side (default 6)")
-    scenes.add_argument("--integrator", default="verlet", choices=["verlet", "symplectic_euler"], help="explicit integrator")
+    scenes.add_argument(
+        "--integrator", default="verlet", choices=["verlet", "symplectic_euler"], help="explicit integrator"
+    )
     scenes.set_defaults(func=_scenes)
 
     bench = sub.add_parser(
-        "bench", help="run the C++ benchmark executable (pass its options after --)",
+        "bench",
+        help="run the C++ benchmark executable (pass its options after --)",
         description="Runs the installed corotate_bench; e.g. 'corotate bench -- --sizes 1,2,4'. "
-                    "'corotate bench -- --help' lists its options.")
+        "'corotate bench -- --help' lists its options.",
+    )
     bench.add_argument("bench_args", nargs=argparse.REMAINDER, help="options for corotate_bench")
     bench.set_defaults(func=_bench)
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``corotate`` console script."""
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -1,12 +1,22 @@
 """What every simulation object shares: the zero-copy state views, gravity and fixed nodes."""
+
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 class DrivenBody:
     """Base of Simulation and ExplicitSimulation. Subclasses set ``self._sim`` (the C++
     simulation), ``self.body`` and ``self._rest`` ((n, 3) rest positions)."""
+
+    _sim: Any  # corotate._core.Simulation or corotate._core.ExplicitSimulation
+    body: Any  # Body or MassSpringBody
+    _rest: np.ndarray
 
     @property
     def positions(self) -> np.ndarray:
@@ -39,13 +49,13 @@ class DrivenBody:
         return np.array(self._sim.gravity)
 
     @gravity.setter
-    def gravity(self, g):
+    def gravity(self, g: ArrayLike) -> None:
         g = np.asarray(g, dtype=np.float64)
         if g.shape != (3,):
             raise ValueError("gravity must be a 3-vector")
         self._sim.gravity = g
 
-    def fix(self, nodes) -> None:
+    def fix(self, nodes: ArrayLike) -> None:
         """Fix the given nodes (int indices or a boolean mask) in all three axes, replacing
         the previous set. Fixed nodes feel no force and keep the velocity they have (zero
         unless set); writing into ``positions``/``velocities`` between steps prescribes

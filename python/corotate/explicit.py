@@ -1,15 +1,21 @@
 """Explicit stepping of mass-spring bodies: symplectic Euler or velocity Verlet with a
 critical time step from the highest eigenfrequency, and sub-stepping."""
+
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _core
+import corotate._core as _core
+
 from .body import Body
 from .driven_body import DrivenBody
 from .mass_spring import MassSpringBody
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = ["ExplicitSimulation"]
 
@@ -46,26 +52,41 @@ class ExplicitSimulation(DrivenBody):
     A step producing non-finite values raises RuntimeError and restores the state.
     """
 
-    def __init__(self, body, dt=None, integrator: str = "verlet", on_unstable: str = "substep",
-                 policy: str = "fixed", safety: float = 0.9, gravity=(0.0, 0.0, 0.0), mass_damping: float = 0.0):
+    def __init__(
+        self,
+        body: MassSpringBody | Body,
+        dt: float | None = None,
+        integrator: str = "verlet",
+        on_unstable: str = "substep",
+        policy: str = "fixed",
+        safety: float = 0.9,
+        gravity: ArrayLike = (0.0, 0.0, 0.0),
+        mass_damping: float = 0.0,
+    ) -> None:
         if not isinstance(body, (MassSpringBody, Body)):
             raise TypeError("body must be a corotate.MassSpringBody or a corotate.Body")
         self.body = body
-        self._settings = dict(time_step=self._check_dt(dt), integrator=integrator, policy=policy,
-                              on_unstable=on_unstable, safety=float(safety), mass_damping=float(mass_damping))
+        self._settings: dict[str, Any] = dict(
+            time_step=self._check_dt(dt),
+            integrator=integrator,
+            policy=policy,
+            on_unstable=on_unstable,
+            safety=float(safety),
+            mass_damping=float(mass_damping),
+        )
         if isinstance(body, MassSpringBody):
             self._rest = body.nodes
-            self._sim = _core.ExplicitSimulation(body.nodes, body.springs, body.stiffness, body.damping,
-                                                 body.rest_lengths, body.masses, **self._settings)
+            self._sim = _core.ExplicitSimulation(
+                body.nodes, body.springs, body.stiffness, body.damping, body.rest_lengths, body.masses, **self._settings
+            )
         else:  # a finite-element body with its lumped mass (project_psd plays no part here)
             self._rest = body.mesh.points
             model, cell_type, points, cells, material, thickness, _ = body._model_spec()
-            self._sim = _core.ExplicitSimulation(model, cell_type, points, cells, material, thickness,
-                                                 **self._settings)
+            self._sim = _core.ExplicitSimulation(model, cell_type, points, cells, material, thickness, **self._settings)
         self.gravity = gravity
 
     @staticmethod
-    def _check_dt(dt) -> float:
+    def _check_dt(dt: float | None) -> float:
         if dt is None:
             return 0.0
         dt = float(dt)
@@ -73,46 +94,46 @@ class ExplicitSimulation(DrivenBody):
             raise ValueError(f"time step dt must be positive and finite (or None for the stable step), got {dt}")
         return dt
 
-    def _configure(self, **changes) -> None:
+    def _configure(self, **changes: Any) -> None:
         settings = {**self._settings, **changes}
         self._sim.configure(**settings)
         self._settings = settings
 
     # --- settings ----------------------------------------------------------------------
     @property
-    def dt(self):
+    def dt(self) -> float | None:
         """The step step() advances [s]; None = the stable step. Settable."""
         return self._settings["time_step"] or None
 
     @dt.setter
-    def dt(self, value):
+    def dt(self, value: float | None) -> None:
         self._configure(time_step=self._check_dt(value))
 
     @property
     def integrator(self) -> str:
-        """"verlet" or "symplectic_euler" (settable)."""
+        """ "verlet" or "symplectic_euler" (settable)."""
         return self._settings["integrator"]
 
     @integrator.setter
-    def integrator(self, name: str):
+    def integrator(self, name: str) -> None:
         self._configure(integrator=name)
 
     @property
     def on_unstable(self) -> str:
-        """"substep", "raise" or "allow" (settable)."""
+        """ "substep", "raise" or "allow" (settable)."""
         return self._settings["on_unstable"]
 
     @on_unstable.setter
-    def on_unstable(self, value: str):
+    def on_unstable(self, value: str) -> None:
         self._configure(on_unstable=value)
 
     @property
     def policy(self) -> str:
-        """"fixed" or "online" (settable)."""
+        """ "fixed" or "online" (settable)."""
         return self._settings["policy"]
 
     @policy.setter
-    def policy(self, value: str):
+    def policy(self, value: str) -> None:
         self._configure(policy=value)
 
     # --- time step ---------------------------------------------------------------------
@@ -150,7 +171,7 @@ class ExplicitSimulation(DrivenBody):
         """Advance by duration [s] (needs dt set): round(duration / dt) steps."""
         if self.dt is None:
             raise ValueError("advance needs a fixed dt; with dt=None use step(n)")
-        self.step(int(round(float(duration) / self.dt)))
+        self.step(int(round(float(duration) / self.dt)))  # noqa: RUF046 (dt may be a NumPy float)
 
     def damping_forces(self) -> np.ndarray:
         """(n, 3) spring damping forces at the current positions and velocities."""

@@ -12,16 +12,23 @@ like an isotropic solid with Young's modulus E and Poisson ratio 1/4, the cloth 
 membrane with E t and Poisson ratio 1/3 (the only ratios central springs can give). The
 damping follows d = beta k (the spring form of Rayleigh damping beta K).
 """
+
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 
-from . import _core
+import corotate._core as _core
+
 from .material import Material
 from .mesh import Mesh
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = ["MassSpringBody", "SpringGeometry"]
 
@@ -46,7 +53,7 @@ class SpringGeometry:
         return self.points.shape[0]
 
 
-def _per_item(value, n: int, name: str) -> np.ndarray:
+def _per_item(value: ArrayLike, n: int, name: str) -> np.ndarray:
     a = np.asarray(value, dtype=np.float64)
     if a.ndim == 0:
         return np.full(n, float(a))
@@ -55,7 +62,7 @@ def _per_item(value, n: int, name: str) -> np.ndarray:
     return np.ascontiguousarray(a)
 
 
-def _csr(triple, n_dofs: int) -> sp.csr_matrix:
+def _csr(triple: tuple[np.ndarray, np.ndarray, np.ndarray], n_dofs: int) -> sp.csr_matrix:
     data, indices, indptr = triple
     return sp.csr_matrix((data, indices, indptr), shape=(n_dofs, n_dofs))
 
@@ -77,7 +84,17 @@ class MassSpringBody:
     out of range, a spring between coincident nodes (zero length: no direction).
     """
 
-    def __init__(self, nodes, springs, stiffness, masses, damping=0.0, rest_lengths=None, geometry=None, kinds=None):
+    def __init__(
+        self,
+        nodes: ArrayLike,
+        springs: ArrayLike,
+        stiffness: ArrayLike,
+        masses: ArrayLike,
+        damping: ArrayLike = 0.0,
+        rest_lengths: ArrayLike | None = None,
+        geometry: SpringGeometry | None = None,
+        kinds: ArrayLike | None = None,
+    ) -> None:
         x = np.ascontiguousarray(nodes, dtype=np.float64)
         if x.ndim != 2 or x.shape[1] != 3:
             raise ValueError(f"nodes must have shape (n, 3), got {x.shape}")
@@ -110,15 +127,25 @@ class MassSpringBody:
 
     # --- builders ----------------------------------------------------------------------
     @classmethod
-    def _from_system(cls, d: dict, nodes=None) -> "MassSpringBody":
+    def _from_system(cls, d: dict, nodes: np.ndarray | None = None) -> MassSpringBody:
         x = d["nodes"] if nodes is None else nodes
         geometry = SpringGeometry(x, np.ascontiguousarray(d["cells"], dtype=np.int64), d["cell_type"])
         return cls(x, d["springs"], d["stiffness"], d["masses"], d["damping"], d["rest_lengths"], geometry, d["kinds"])
 
     @classmethod
-    def cloth(cls, nx: int = 32, ny: int = 32, size=(1.0, 1.0), E: float = 1e6, thickness: float = 1e-3,
-              density: float = 1000.0, bending: float = 0.01, beta: float = 0.0, plane: str = "xy",
-              origin=(0.0, 0.0, 0.0)) -> "MassSpringBody":
+    def cloth(
+        cls,
+        nx: int = 32,
+        ny: int = 32,
+        size: Sequence[float] = (1.0, 1.0),
+        E: float = 1e6,
+        thickness: float = 1e-3,
+        density: float = 1000.0,
+        bending: float = 0.01,
+        beta: float = 0.0,
+        plane: str = "xy",
+        origin: ArrayLike = (0.0, 0.0, 0.0),
+    ) -> MassSpringBody:
         """A rectangular cloth of nx x ny particles (the paper's Fig. 1).
 
         size       (width, height) [m]; the cloth spans [0, width] x [0, height] in ``plane``
@@ -129,8 +156,17 @@ class MassSpringBody:
         Node (i, j), i along the first axis, has index j * nx + i. Springs: structural
         (kind 0), shear (1), bending (2); geometry: quads.
         """
-        d = _core.cloth_grid(int(nx), int(ny), float(size[0]), float(size[1]), float(E), float(thickness),
-                             float(density), float(bending), float(beta))
+        d = _core.cloth_grid(
+            int(nx),
+            int(ny),
+            float(size[0]),
+            float(size[1]),
+            float(E),
+            float(thickness),
+            float(density),
+            float(bending),
+            float(beta),
+        )
         x = d["nodes"]
         if plane == "xz":
             x = np.ascontiguousarray(x[:, [0, 2, 1]])
@@ -139,8 +175,15 @@ class MassSpringBody:
         return cls._from_system(d, x + np.asarray(origin, dtype=np.float64))
 
     @classmethod
-    def lattice(cls, cells=(4, 4, 4), size=(1.0, 1.0, 1.0), E: float = 1e6, density: float = 1000.0,
-                beta: float = 0.0, origin=(0.0, 0.0, 0.0)) -> "MassSpringBody":
+    def lattice(
+        cls,
+        cells: Sequence[int] = (4, 4, 4),
+        size: ArrayLike = (1.0, 1.0, 1.0),
+        E: float = 1e6,
+        density: float = 1000.0,
+        beta: float = 0.0,
+        origin: ArrayLike = (0.0, 0.0, 0.0),
+    ) -> MassSpringBody:
         """A box of cube cells with springs along edges, face and room diagonals (Fig. 2).
 
         cells   (nx, ny, nz) cubes; size (3,) extent [m] from origin
@@ -150,11 +193,13 @@ class MassSpringBody:
         Node (i, j, k) has index (k * (ny + 1) + j) * (nx + 1) + i; geometry: hexahedra.
         """
         c = [int(v) for v in cells]
-        d = _core.cube_lattice(c[0], c[1], c[2], np.asarray(size, dtype=np.float64), float(E), float(density), float(beta))
+        d = _core.cube_lattice(
+            c[0], c[1], c[2], np.asarray(size, dtype=np.float64), float(E), float(density), float(beta)
+        )
         return cls._from_system(d, d["nodes"] + np.asarray(origin, dtype=np.float64))
 
     @classmethod
-    def from_mesh(cls, mesh: Mesh, material: Material, diagonals: bool = True, beta: float = 0.0) -> "MassSpringBody":
+    def from_mesh(cls, mesh: Mesh, material: Material, diagonals: bool = True, beta: float = 0.0) -> MassSpringBody:
         """Springs on the elements of a tetra or hexahedron mesh.
 
         Each element's edges get springs (hexahedra also face and room diagonals unless
@@ -167,8 +212,15 @@ class MassSpringBody:
             raise TypeError("mesh must be a corotate.Mesh")
         if not isinstance(material, Material):
             raise TypeError("material must be a corotate.Material")
-        d = _core.springs_from_mesh(mesh.points, mesh.cells, mesh.cell_type, float(material.E), float(material.density),
-                                    float(beta), bool(diagonals))
+        d = _core.springs_from_mesh(
+            mesh.points,
+            mesh.cells,
+            mesh.cell_type,
+            float(material.E),
+            float(material.density),
+            float(beta),
+            bool(diagonals),
+        )
         return cls._from_system(d)
 
     # --- queries -----------------------------------------------------------------------
@@ -184,24 +236,24 @@ class MassSpringBody:
     def total_mass(self) -> float:
         return float(self.masses.sum())
 
-    def internal_forces(self, positions) -> np.ndarray:
+    def internal_forces(self, positions: ArrayLike) -> np.ndarray:
         """Elastic spring forces (n, 3) of eq. (1) at positions (n, 3)."""
         return self._model.internal_forces(self._check(positions))
 
-    def damping_forces(self, positions, velocities) -> np.ndarray:
+    def damping_forces(self, positions: ArrayLike, velocities: ArrayLike) -> np.ndarray:
         """Damping forces (n, 3) of eq. (2) at positions and velocities (n, 3)."""
         return self._model.damping_forces(self._check(positions), self._check(velocities, "velocities"))
 
-    def energy(self, positions) -> float:
+    def energy(self, positions: ArrayLike) -> float:
         """Spring energy sum k (l - l0)^2 / 2 at positions (n, 3)."""
         return self._model.energy(self._check(positions))
 
-    def stiffness_matrix(self, positions=None) -> sp.csr_matrix:
+    def stiffness_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
         """K = -d f / d x (3n x 3n, DOF = 3*node + axis) at positions (default: rest)."""
         x = self.nodes if positions is None else self._check(positions)
         return _csr(self._model.stiffness_csr(x), 3 * self.n_nodes)
 
-    def damping_matrix(self, positions=None) -> sp.csr_matrix:
+    def damping_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
         """C = -d f_damping / d v (3n x 3n) at positions (default: rest)."""
         x = self.nodes if positions is None else self._check(positions)
         return _csr(self._model.damping_csr(x), 3 * self.n_nodes)
@@ -214,7 +266,7 @@ class MassSpringBody:
         """Diagonal mass matrix (3n x 3n)."""
         return sp.diags(np.repeat(self.masses, 3)).tocsr()
 
-    def _check(self, positions, what: str = "positions") -> np.ndarray:
+    def _check(self, positions: ArrayLike | None, what: str = "positions") -> np.ndarray:
         x = np.ascontiguousarray(positions, dtype=np.float64)
         if x.shape != (self.n_nodes, 3):
             raise ValueError(f"{what} must have shape ({self.n_nodes}, 3), got {x.shape}")

@@ -1,9 +1,10 @@
 """Isotropic linear-elastic material."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import _core
+import corotate._core as _core
 
 
 @dataclass(frozen=True)
@@ -21,10 +22,10 @@ class Material:
     nu: float = 0.3
     density: float = 1000.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         self._core()  # validates
 
-    def _core(self) -> "_core.Material":
+    def _core(self) -> _core.Material:
         return _core.Material(float(self.E), float(self.nu), float(self.density))
 
     @property

@@ -27,9 +27,14 @@ from __future__ import annotations
 import itertools
 import os
 import warnings
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, DTypeLike
 
 __all__ = [
     "SUPPORTED_CELL_TYPES",
@@ -56,16 +61,20 @@ _ELEMENTS = {"tet4": "tetra", "hex8": "hexahedron", "hex20": "hexahedron20"}
 _FLIP = {
     "tetra": np.array([0, 2, 1, 3]),
     "hexahedron": np.array([4, 5, 6, 7, 0, 1, 2, 3]),
-    "hexahedron20": np.array(
-        [4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19]
-    ),
+    "hexahedron20": np.array([4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19]),
 }
 
 # Unit-cube corner offsets in VTK hexahedron order.
 _HEX_CORNERS = np.array(
     [
-        [0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-        [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1],
+        [0, 0, 0],
+        [1, 0, 0],
+        [1, 1, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [1, 0, 1],
+        [1, 1, 1],
+        [0, 1, 1],
     ],
     dtype=np.int64,
 )
@@ -73,9 +82,18 @@ _HEX_CORNERS = np.array(
 # The hexahedron20 edges (pairs of corners) in VTK mid-node order 8..19.
 _HEX20_EDGES = np.array(
     [
-        [0, 1], [1, 2], [2, 3], [3, 0],
-        [4, 5], [5, 6], [6, 7], [7, 4],
-        [0, 4], [1, 5], [2, 6], [3, 7],
+        [0, 1],
+        [1, 2],
+        [2, 3],
+        [3, 0],
+        [4, 5],
+        [5, 6],
+        [6, 7],
+        [7, 4],
+        [0, 4],
+        [1, 5],
+        [2, 6],
+        [3, 7],
     ],
     dtype=np.int64,
 )
@@ -119,7 +137,7 @@ class Mesh:
                 the offending node / cell.
     """
 
-    def __init__(self, points, cells, cell_type: str = "tetra"):
+    def __init__(self, points: ArrayLike, cells: ArrayLike, cell_type: str = "tetra") -> None:
         self.cell_type = _check_cell_type(cell_type)
         self.points = _check_points(points)
         self.cells = _check_cells(cells, self.cell_type, len(self.points))
@@ -135,14 +153,11 @@ class Mesh:
         return int(self.cells.shape[0])
 
     def __repr__(self) -> str:
-        return (
-            f"Mesh(n_nodes={self.n_nodes}, n_cells={self.n_cells}, "
-            f"cell_type={self.cell_type!r})"
-        )
+        return f"Mesh(n_nodes={self.n_nodes}, n_cells={self.n_cells}, cell_type={self.cell_type!r})"
 
     # -- node selection ---------------------------------------------------
 
-    def nodes_where(self, predicate) -> np.ndarray:
+    def nodes_where(self, predicate: Callable[[np.ndarray], ArrayLike]) -> np.ndarray:
         """Indices of the nodes for which ``predicate`` holds.
 
         predicate  callable taking points (n, 3) float64 (a read-only view)
@@ -153,17 +168,12 @@ class Mesh:
         view.flags.writeable = False  # the predicate must not move the mesh
         mask = np.asarray(predicate(view))
         if mask.shape != (self.n_nodes,):
-            raise ValueError(
-                f"predicate must return a mask of shape ({self.n_nodes},), "
-                f"got shape {mask.shape}"
-            )
+            raise ValueError(f"predicate must return a mask of shape ({self.n_nodes},), got shape {mask.shape}")
         if mask.dtype != np.bool_:
-            raise ValueError(
-                f"predicate must return a bool mask, got dtype {mask.dtype}"
-            )
+            raise ValueError(f"predicate must return a bool mask, got dtype {mask.dtype}")
         return np.flatnonzero(mask).astype(np.int64)
 
-    def nodes_on_plane(self, axis, value: float, tol: float = 1e-9) -> np.ndarray:
+    def nodes_on_plane(self, axis: int | str, value: float, tol: float = 1e-9) -> np.ndarray:
         """Indices of the nodes with ``|points[:, axis] - value| <= tol``.
 
         axis     0, 1, 2 or "x", "y", "z"
@@ -174,7 +184,7 @@ class Mesh:
         a = _axis_index(axis)
         return self.nodes_where(lambda p: np.abs(p[:, a] - value) <= tol)
 
-    def nodes_in_box(self, lower, upper) -> np.ndarray:
+    def nodes_in_box(self, lower: ArrayLike, upper: ArrayLike) -> np.ndarray:
         """Indices of the nodes inside the closed axis-aligned box.
 
         lower    (3,) minimum corner
@@ -187,7 +197,7 @@ class Mesh:
             raise ValueError(f"box upper {hi.tolist()} is below lower {lo.tolist()}")
         return self.nodes_where(lambda p: np.all((p >= lo) & (p <= hi), axis=1))
 
-    def nearest_node(self, point) -> int:
+    def nearest_node(self, point: ArrayLike) -> int:
         """Index of the node closest to ``point``.
 
         point    (3,) query position
@@ -220,15 +230,13 @@ class Mesh:
         return _hex_volumes(x[:, :8, :])
 
 
-def _check_cell_type(cell_type) -> str:
+def _check_cell_type(cell_type: str) -> str:
     if not isinstance(cell_type, str) or cell_type not in SUPPORTED_CELL_TYPES:
-        raise ValueError(
-            f"unsupported cell type {cell_type!r}; supported: {_supported_list()}"
-        )
+        raise ValueError(f"unsupported cell type {cell_type!r}; supported: {_supported_list()}")
     return cell_type
 
 
-def _check_points(points) -> np.ndarray:
+def _check_points(points: ArrayLike) -> np.ndarray:
     p = np.array(points, dtype=np.float64, order="C", copy=True)
     if p.ndim != 2 or p.shape[1] != 3:
         raise ValueError(f"points must have shape (n, 3), got {p.shape}")
@@ -237,13 +245,12 @@ def _check_points(points) -> np.ndarray:
         node, coord = np.argwhere(bad)[0]
         kind = "NaN" if np.isnan(p[node, coord]) else "inf"
         raise ValueError(
-            f"points contain {kind} at node {node} "
-            f"({int(bad.any(axis=1).sum())} non-finite node(s) in total)"
+            f"points contain {kind} at node {node} ({int(bad.any(axis=1).sum())} non-finite node(s) in total)"
         )
     return p
 
 
-def _check_cells(cells, cell_type: str, n_nodes: int) -> np.ndarray:
+def _check_cells(cells: ArrayLike, cell_type: str, n_nodes: int) -> np.ndarray:
     k = SUPPORTED_CELL_TYPES[cell_type]
     c = np.asarray(cells)
     if c.size == 0:
@@ -252,9 +259,7 @@ def _check_cells(cells, cell_type: str, n_nodes: int) -> np.ndarray:
     if c.dtype.kind not in "iu":
         raise ValueError(f"cells must hold integer node indices, got dtype {c.dtype}")
     if c.ndim != 2 or c.shape[1] != k:
-        raise ValueError(
-            f"cells of type {cell_type!r} must have shape (m, {k}), got {c.shape}"
-        )
+        raise ValueError(f"cells of type {cell_type!r} must have shape (m, {k}), got {c.shape}")
     c = np.array(c, dtype=np.int64, order="C", copy=True)
     bad = (c < 0) | (c >= n_nodes)
     if bad.any():
@@ -266,7 +271,7 @@ def _check_cells(cells, cell_type: str, n_nodes: int) -> np.ndarray:
     return c
 
 
-def _axis_index(axis) -> int:
+def _axis_index(axis: int | str) -> int:
     names = {"x": 0, "y": 1, "z": 2}
     if isinstance(axis, str) and axis.lower() in names:
         return names[axis.lower()]
@@ -275,7 +280,7 @@ def _axis_index(axis) -> int:
     raise ValueError(f"axis must be 0, 1, 2, 'x', 'y' or 'z', got {axis!r}")
 
 
-def _as_vec3(v, name: str) -> np.ndarray:
+def _as_vec3(v: ArrayLike, name: str) -> np.ndarray:
     a = np.asarray(v, dtype=np.float64)
     if a.shape != (3,):
         raise ValueError(f"{name} must have shape (3,), got {a.shape}")
@@ -321,7 +326,7 @@ def _hex_volumes(x: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def _meshio():
+def _meshio() -> Any:
     try:
         import meshio
     except ImportError as e:  # pragma: no cover - depends on the environment
@@ -329,7 +334,7 @@ def _meshio():
     return meshio
 
 
-def read_mesh(path, remove_unused_nodes: bool = True) -> Mesh:
+def read_mesh(path: str | os.PathLike[str], remove_unused_nodes: bool = True) -> Mesh:
     """Read a volume mesh from a file.
 
     path  any format meshio reads (.vtu, .vtk, .msh, .xdmf, ...), or a TetGen
@@ -363,7 +368,7 @@ def read_mesh(path, remove_unused_nodes: bool = True) -> Mesh:
     return mesh
 
 
-def _read_meshio(path: Path):
+def _read_meshio(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
     """Return (points, cells, cell_type) of the one volume type in a file."""
     if not path.is_file():
         raise FileNotFoundError(f"mesh file not found: {path}")
@@ -376,8 +381,7 @@ def _read_meshio(path: Path):
     volume_types = sorted({t for t in found if t in VOLUME_CELL_TYPES})
     if not volume_types:
         raise ValueError(
-            f"{path} has no supported volume cells; found cell types "
-            f"{sorted(set(found))}, supported: {_volume_list()}"
+            f"{path} has no supported volume cells; found cell types {sorted(set(found))}, supported: {_volume_list()}"
         )
     if len(volume_types) > 1:
         raise ValueError(
@@ -390,7 +394,7 @@ def _read_meshio(path: Path):
     return m.points, np.concatenate(blocks, axis=0), cell_type
 
 
-def _tetgen_rows(path: Path, kind: str):
+def _tetgen_rows(path: Path, kind: str) -> tuple[list[str], list[list[str]]]:
     """Header and data rows of a TetGen file, comments and blanks removed."""
     if not path.is_file():
         raise FileNotFoundError(f"TetGen {kind} file not found: {path}")
@@ -412,7 +416,7 @@ def _tetgen_rows(path: Path, kind: str):
     return header, body[:count]
 
 
-def _parse_table(rows, ncols: int, dtype, path: Path) -> np.ndarray:
+def _parse_table(rows: list[list[str]], ncols: int, dtype: DTypeLike, path: Path) -> np.ndarray:
     """The first ncols columns of rows as an array, with a clear error."""
     for i, r in enumerate(rows):
         if len(r) < ncols:
@@ -423,7 +427,7 @@ def _parse_table(rows, ncols: int, dtype, path: Path) -> np.ndarray:
         raise ValueError(f"{path}: could not parse numbers ({e})") from None
 
 
-def _read_tetgen(path: Path):
+def _read_tetgen(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
     """Return (points, cells, "tetra") from a TetGen .node/.ele pair."""
     node_path, ele_path = path.with_suffix(".node"), path.with_suffix(".ele")
     header, rows = _tetgen_rows(node_path, ".node")
@@ -434,9 +438,7 @@ def _read_tetgen(path: Path):
     # TetGen numbers from 0 or 1 (the -z switch); the first node tells which.
     base = int(ids[0]) if len(ids) else 0
     if base not in (0, 1) or np.any(ids != base + np.arange(len(ids))):
-        raise ValueError(
-            f"{node_path}: node numbers must run consecutively from 0 or 1"
-        )
+        raise ValueError(f"{node_path}: node numbers must run consecutively from 0 or 1")
     points = table[:, 1:4]
 
     header, rows = _tetgen_rows(ele_path, ".ele")
@@ -450,7 +452,7 @@ def _read_tetgen(path: Path):
     return points, cells, "tetra"
 
 
-def _drop_unused_nodes(mesh: Mesh, path) -> Mesh:
+def _drop_unused_nodes(mesh: Mesh, path: str | os.PathLike[str]) -> Mesh:
     """Mesh without the nodes no cell uses (others keep their order)."""
     used = np.zeros(mesh.n_nodes, dtype=bool)
     used[mesh.cells] = True
@@ -466,7 +468,7 @@ def _drop_unused_nodes(mesh: Mesh, path) -> Mesh:
     return Mesh(mesh.points[used], new_index[mesh.cells], mesh.cell_type)
 
 
-def _fix_orientation(mesh: Mesh, path) -> None:
+def _fix_orientation(mesh: Mesh, path: str | os.PathLike[str]) -> None:
     """Mirror negatively oriented cells in place, warning with their count."""
     negative = mesh.cell_volumes() < 0
     n_neg = int(negative.sum())
@@ -475,13 +477,12 @@ def _fix_orientation(mesh: Mesh, path) -> None:
     mesh.cells[negative] = mesh.cells[negative][:, _FLIP[mesh.cell_type]]
     what = "nodes 1 and 2 swapped" if mesh.cell_type == "tetra" else "top and bottom faces swapped"
     warnings.warn(
-        f"{path}: reordered {n_neg} of {mesh.n_cells} {mesh.cell_type} cell(s) "
-        f"with negative volume ({what})",
+        f"{path}: reordered {n_neg} of {mesh.n_cells} {mesh.cell_type} cell(s) with negative volume ({what})",
         stacklevel=3,
     )
 
 
-def write_mesh(path, mesh: Mesh, point_data=None) -> None:
+def write_mesh(path: str | os.PathLike[str], mesh: Mesh, point_data: Mapping[str, ArrayLike] | None = None) -> None:
     """Write a mesh with meshio (format from the file extension).
 
     path        output file, e.g. "out.vtu"
@@ -494,16 +495,13 @@ def write_mesh(path, mesh: Mesh, point_data=None) -> None:
     meshio.write(os.fspath(path), out)
 
 
-def _check_point_data(point_data, n_nodes: int) -> dict:
+def _check_point_data(point_data: Mapping[str, ArrayLike] | None, n_nodes: int) -> dict:
     """Validate a name -> (n, ...) array dict; returns float/ints as arrays."""
     out = {}
     for name, values in (point_data or {}).items():
         a = np.asarray(values)
         if a.ndim == 0 or a.shape[0] != n_nodes:
-            raise ValueError(
-                f"point_data[{name!r}] must have one row per node ({n_nodes}), "
-                f"got shape {a.shape}"
-            )
+            raise ValueError(f"point_data[{name!r}] must have one row per node ({n_nodes}), got shape {a.shape}")
         out[str(name)] = a
     return out
 
@@ -513,7 +511,12 @@ def _check_point_data(point_data, n_nodes: int) -> dict:
 # --------------------------------------------------------------------------
 
 
-def box(size=(1.0, 1.0, 1.0), cells=(1, 1, 1), element: str = "tet4", origin=(0.0, 0.0, 0.0)) -> Mesh:
+def box(
+    size: ArrayLike = (1.0, 1.0, 1.0),
+    cells: ArrayLike = (1, 1, 1),
+    element: str = "tet4",
+    origin: ArrayLike = (0.0, 0.0, 0.0),
+) -> Mesh:
     """A structured mesh of an axis-aligned box.
 
     size     (3,) edge lengths (lx, ly, lz), all > 0
@@ -530,9 +533,7 @@ def box(size=(1.0, 1.0, 1.0), cells=(1, 1, 1), element: str = "tet4", origin=(0.
              so a slab of constant x holds consecutive indices.
     """
     if element not in _ELEMENTS:
-        raise ValueError(
-            f"unknown element {element!r}; choose one of {', '.join(_ELEMENTS)}"
-        )
+        raise ValueError(f"unknown element {element!r}; choose one of {', '.join(_ELEMENTS)}")
     lengths = _as_vec3(size, "size")
     if not np.all(np.isfinite(lengths) & (lengths > 0)):
         raise ValueError(f"size must be finite and positive, got {lengths.tolist()}")
@@ -559,7 +560,9 @@ def box(size=(1.0, 1.0, 1.0), cells=(1, 1, 1), element: str = "tet4", origin=(0.
     return Mesh(points, conn.reshape(-1, local.shape[1]), _ELEMENTS[element])
 
 
-def beam(length: float = 5.0, width: float = 1.0, height: float = 1.0, cells=(10, 2, 2), element: str = "tet4") -> Mesh:
+def beam(
+    length: float = 5.0, width: float = 1.0, height: float = 1.0, cells: ArrayLike = (10, 2, 2), element: str = "tet4"
+) -> Mesh:
     """A box from the origin: x in [0, length], y in [0, width], z in [0, height].
 
     cells    (3,) cuboids along x, y, z
@@ -569,14 +572,14 @@ def beam(length: float = 5.0, width: float = 1.0, height: float = 1.0, cells=(10
     return box(size=(length, width, height), cells=cells, element=element, origin=(0.0, 0.0, 0.0))
 
 
-def _cell_counts(cells) -> np.ndarray:
+def _cell_counts(cells: ArrayLike) -> np.ndarray:
     c = np.asarray(cells)
     if c.shape != (3,) or c.dtype.kind not in "iu" or np.any(c < 1):
         raise ValueError(f"cells must be three integers >= 1, got {cells!r}")
     return c.astype(np.int64)
 
 
-def _grid_node_mask(shape, element: str) -> np.ndarray:
+def _grid_node_mask(shape: tuple[int, ...], element: str) -> np.ndarray:
     """Which grid points become nodes: all of them, or for hex20 (half-step
     grid) the corners and edge mid-points, i.e. at most one odd index."""
     if element != "hex20":
@@ -618,7 +621,7 @@ def _kuhn_tets() -> np.ndarray:
     return np.array(tets)
 
 
-def rectangle(size=(1.0, 1.0), cells=(1, 1), origin=(0.0, 0.0)) -> Mesh:
+def rectangle(size: ArrayLike = (1.0, 1.0), cells: ArrayLike = (1, 1), origin: ArrayLike = (0.0, 0.0)) -> Mesh:
     """A structured triangle mesh of a rectangle in the z = 0 plane (a sheet).
 
     size     (2,) edge lengths (lx, ly), both > 0

@@ -3,12 +3,19 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
 from .mesh import Mesh, _check_point_data, _meshio
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from .mass_spring import SpringGeometry
 
 __all__ = ["TimeSeriesWriter"]
 
@@ -34,7 +41,7 @@ class TimeSeriesWriter:
     any beyond the new run's last frame stay on disk but are not indexed.
     """
 
-    def __init__(self, path_pvd, mesh: Mesh):
+    def __init__(self, path_pvd: str | os.PathLike[str], mesh: Mesh | SpringGeometry) -> None:
         self.path = Path(os.fspath(path_pvd))
         if self.path.suffix.lower() != ".pvd":
             raise ValueError(f"path_pvd must end with .pvd, got {self.path}")
@@ -49,7 +56,7 @@ class TimeSeriesWriter:
         """Number of frames written so far."""
         return len(self._frames)
 
-    def write(self, time: float, positions, point_data=None) -> Path:
+    def write(self, time: float, positions: ArrayLike, point_data: Mapping[str, ArrayLike] | None = None) -> Path:
         """Write one frame and update the .pvd index.
 
         time        simulation time of the frame (float)
@@ -63,9 +70,7 @@ class TimeSeriesWriter:
         t = float(time)
         x = np.asarray(positions, dtype=np.float64)
         if x.shape != self.mesh.points.shape:
-            raise ValueError(
-                f"positions must have shape {self.mesh.points.shape}, got {x.shape}"
-            )
+            raise ValueError(f"positions must have shape {self.mesh.points.shape}, got {x.shape}")
         data = _check_point_data(point_data, self.mesh.n_nodes)
         if "displacement" in data:
             raise ValueError("point_data name 'displacement' is reserved (added automatically)")
@@ -87,10 +92,10 @@ class TimeSeriesWriter:
             self._write_index()
             self._closed = True
 
-    def __enter__(self) -> "TimeSeriesWriter":
+    def __enter__(self) -> TimeSeriesWriter:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def _write_index(self) -> None:
@@ -103,9 +108,7 @@ class TimeSeriesWriter:
         ]
         for t, rel in self._frames:
             # repr keeps the float exact when ParaView (or a test) reads it back.
-            lines.append(
-                f'    <DataSet timestep={quoteattr(repr(t))} group="" part="0" file={quoteattr(rel)}/>'
-            )
+            lines.append(f'    <DataSet timestep={quoteattr(repr(t))} group="" part="0" file={quoteattr(rel)}/>')
         lines += ["  </Collection>", "</VTKFile>", ""]
         tmp = self.path.with_name(self.path.name + ".tmp")
         tmp.write_text("\n".join(lines))

@@ -2,25 +2,33 @@
 base, both mass-spring bodies stepped explicitly. Each writes a ParaView time series
 (OUT/<scene>.pvd + one .vtu per frame) and a PNG of the last frame (needs matplotlib:
 ``pip install 'corotate[plot]'``; skipped with a message otherwise)."""
+
 from __future__ import annotations
 
+import os
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .body import Body
 from .explicit import ExplicitSimulation
+from .mass_spring import MassSpringBody
 from .material import Material
 from .mesh import Mesh, rectangle
-from .mass_spring import MassSpringBody
 from .output import TimeSeriesWriter
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = ["hanging_cloth", "dropped_cube", "plot_springs"]
 
 FPS = 60
 
 
-def _run(name, sim, body, out, frames, title):
+def _run(
+    name: str, sim: ExplicitSimulation, body: MassSpringBody, out: str | os.PathLike[str], frames: int, title: str
+) -> ExplicitSimulation:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     pvd = out / f"{name}.pvd"
@@ -31,14 +39,18 @@ def _run(name, sim, body, out, frames, title):
             writer.write(sim.time, sim.positions, {"velocity": sim.velocities})
     png = plot_springs(body, sim.positions, out / f"{name}.png", title=f"{title}, t = {sim.time:.2f} s")
     s = sim.stats
-    print(f"corotate scenes {name}: {body.n_nodes} nodes, {body.n_springs} springs; {frames} frames of 1/{FPS} s, "
-          f"{s['substeps'] / max(s['steps'], 1):.1f} substeps per frame (dt_crit = {sim.critical_time_step:.3g} s), "
-          f"{s['ms_per_step']:.2f} ms per frame, real-time ratio {s['real_time_ratio']:.1f}")
+    print(
+        f"corotate scenes {name}: {body.n_nodes} nodes, {body.n_springs} springs; {frames} frames of 1/{FPS} s, "
+        f"{s['substeps'] / max(s['steps'], 1):.1f} substeps per frame (dt_crit = {sim.critical_time_step:.3g} s), "
+        f"{s['ms_per_step']:.2f} ms per frame, real-time ratio {s['real_time_ratio']:.1f}"
+    )
     print(f"  wrote {pvd} ({frames + 1} frames)" + (f" and {png}" if png else ""))
     return sim
 
 
-def hanging_cloth(out="corotate-scenes", n: int = 32, frames: int = 240, integrator: str = "verlet") -> ExplicitSimulation:
+def hanging_cloth(
+    out: str | os.PathLike[str] = "corotate-scenes", n: int = 32, frames: int = 240, integrator: str = "verlet"
+) -> ExplicitSimulation:
     """A 1 x 1 m cloth (n x n particles, E = 0.5 MPa, 1 mm thick, 200 kg/m^3), horizontal at
     the start, pinned at two corners of one edge, falls, swings and, with velocity damping
     (1.5 1/s; it costs no step size), comes to hang below the pinned edge within a few
@@ -49,8 +61,13 @@ def hanging_cloth(out="corotate-scenes", n: int = 32, frames: int = 240, integra
     return _run("cloth", sim, body, out, frames, "cloth hanging from two corners")
 
 
-def dropped_cube(out="corotate-scenes", cells: int = 6, frames: int = 240, speed: float = 1.0,
-                 integrator: str = "verlet") -> ExplicitSimulation:
+def dropped_cube(
+    out: str | os.PathLike[str] = "corotate-scenes",
+    cells: int = 6,
+    frames: int = 240,
+    speed: float = 1.0,
+    integrator: str = "verlet",
+) -> ExplicitSimulation:
     """A soft 0.5 m cube lattice (E = 40 kPa, 1000 kg/m^3) lands on a base, squashes by a
     fifth and settles about 7 % lower (velocity damping 1 1/s; much softer lattices collapse
     under their own weight, a known weakness of mass-spring solids): at t = 0 it
@@ -66,7 +83,7 @@ def dropped_cube(out="corotate-scenes", cells: int = 6, frames: int = 240, speed
     return _run("cube", sim, body, out, frames, "soft cube dropped on a pinned base")
 
 
-def pyplot():
+def pyplot() -> Any:
     """matplotlib.pyplot on the Agg backend, or None (with a message) when matplotlib is not
     installed: the PNGs are optional, the ParaView series are not."""
     try:
@@ -80,8 +97,12 @@ def pyplot():
     return plt
 
 
-def stvk_sheet(out="corotate-scenes", cells: int = 16, frames: int = 240,
-               integrator: str = "symplectic_euler") -> ExplicitSimulation:
+def stvk_sheet(
+    out: str | os.PathLike[str] = "corotate-scenes",
+    cells: int = 16,
+    frames: int = 240,
+    integrator: str = "symplectic_euler",
+) -> ExplicitSimulation:
     """The explainer's demo: a 2D St. Venant-Kirchhoff sheet of linear triangles, 1 x 1 m in
     the vertical x-z plane (E = 50 kPa, nu = 0.3, 1000 kg/m^3, 1 cm thick), pinned at its
     two top corners, swinging and stretching under gravity; symplectic Euler at the stable
@@ -92,8 +113,9 @@ def stvk_sheet(out="corotate-scenes", cells: int = 16, frames: int = 240,
     mesh = Mesh(points, flat.cells[:, [0, 2, 1]], "triangle")  # normal +y after the turn
     body = Body(mesh, Material(E=5e4, nu=0.3, density=1000.0), model="stvk", thickness=0.01)
     # StVK stiffens as it stretches: the online policy re-estimates the stable step as it moves.
-    sim = ExplicitSimulation(body, dt=1 / FPS, integrator=integrator, policy="online", safety=0.7,
-                             gravity=(0, 0, -9.81), mass_damping=0.1)
+    sim = ExplicitSimulation(
+        body, dt=1 / FPS, integrator=integrator, policy="online", safety=0.7, gravity=(0, 0, -9.81), mass_damping=0.1
+    )
     top = mesh.nodes_on_plane("z", 0.0)
     sim.fix([top[np.argmin(points[top, 0])], top[np.argmax(points[top, 0])]])
     sim.velocities[:, 0] = 1.0  # a push sideways, so it swings
@@ -109,14 +131,16 @@ def stvk_sheet(out="corotate-scenes", cells: int = 16, frames: int = 240,
             writer.write(sim.time, sim.positions, {"velocity": sim.velocities})
     png = plot_sheet(mesh, sim.positions, out / "sheet.png", f"StVK sheet pinned at two corners, t = {sim.time:.2f} s")
     s = sim.stats
-    print(f"corotate scenes sheet: {mesh.n_nodes} nodes, {mesh.n_cells} StVK triangles; {frames} frames of 1/{FPS} s, "
-          f"{s['substeps'] / max(s['steps'], 1):.1f} substeps per frame (dt_crit = {sim.critical_time_step:.3g} s), "
-          f"{s['ms_per_step']:.2f} ms per frame, real-time ratio {s['real_time_ratio']:.1f}")
+    print(
+        f"corotate scenes sheet: {mesh.n_nodes} nodes, {mesh.n_cells} StVK triangles; {frames} frames of 1/{FPS} s, "
+        f"{s['substeps'] / max(s['steps'], 1):.1f} substeps per frame (dt_crit = {sim.critical_time_step:.3g} s), "
+        f"{s['ms_per_step']:.2f} ms per frame, real-time ratio {s['real_time_ratio']:.1f}"
+    )
     print(f"  wrote {pvd} ({frames + 1} frames)" + (f" and {png}" if png else ""))
     return sim
 
 
-def plot_sheet(mesh: Mesh, positions, path, title: str = "") -> Path | None:
+def plot_sheet(mesh: Mesh, positions: ArrayLike, path: str | os.PathLike[str], title: str = "") -> Path | None:
     """Draw a sheet in the x-z plane (its triangles at positions (n, 3)) into a PNG; returns
     the path, or None when matplotlib is not installed."""
     plt = pyplot()
@@ -135,13 +159,16 @@ def plot_sheet(mesh: Mesh, positions, path, title: str = "") -> Path | None:
     return path
 
 
-def plot_springs(body: MassSpringBody, positions, path, title: str = "") -> Path | None:
+def plot_springs(
+    body: MassSpringBody, positions: ArrayLike, path: str | os.PathLike[str], title: str = ""
+) -> Path | None:
     """Draw the springs at positions (n, 3) into a PNG at path; returns the path, or None
     (with a message) when matplotlib is not installed."""
     plt = pyplot()
     if plt is None:
         return None
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
     x = np.asarray(positions)
     keep = body.kinds != 2  # bending springs / room diagonals only clutter the picture
     segments = x[body.springs[keep]]

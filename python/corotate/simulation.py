@@ -1,12 +1,19 @@
 """Stepping a body frame by frame: implicit co-rotational dynamics and static equilibrium."""
+
 from __future__ import annotations
+
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import _core
+import corotate._core as _core
+
 from .body import Body
 from .driven_body import DrivenBody
 from .solvers import PCG, Direct
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 MASS_KINDS = ("consistent", "lumped")
 INTEGRATORS = ("linearized", "newton")
@@ -36,9 +43,18 @@ class Simulation(DrivenBody):
     loads (e.g. ``sim.external_forces[tip] = (0, 0, -10)``).
     """
 
-    def __init__(self, body: Body, dt: float = 0.01, solver=None, gravity=(0.0, 0.0, 0.0),
-                 mass: str = "consistent", rayleigh=(0.0, 0.0), integrator: str = "linearized",
-                 newton_iterations: int = 20, newton_tolerance: float = 1e-6):
+    def __init__(
+        self,
+        body: Body,
+        dt: float = 0.01,
+        solver: PCG | Direct | None = None,
+        gravity: ArrayLike = (0.0, 0.0, 0.0),
+        mass: str = "consistent",
+        rayleigh: tuple[float, float] = (0.0, 0.0),
+        integrator: str = "linearized",
+        newton_iterations: int = 20,
+        newton_tolerance: float = 1e-6,
+    ) -> None:
         if not isinstance(body, Body):
             raise TypeError("body must be a corotate.Body")
         if mass not in MASS_KINDS:
@@ -54,13 +70,19 @@ class Simulation(DrivenBody):
         alpha, beta = (float(v) for v in rayleigh)
         self.body = body
         self.solver = solver
-        settings = _core.ImplicitEulerSettings(float(dt), alpha, beta, mass == "lumped",
-                                               int(newton_iterations) if integrator == "newton" else 0,
-                                               float(newton_tolerance))
+        settings = _core.ImplicitEulerSettings(
+            float(dt),
+            alpha,
+            beta,
+            mass == "lumped",
+            int(newton_iterations) if integrator == "newton" else 0,
+            float(newton_tolerance),
+        )
         kind, pcg = solver._args()
         model, cell_type, points, cells, material, thickness, project_psd = body._model_spec()
-        self._sim = _core.Simulation(model, cell_type, points, cells, material, settings, kind, pcg,
-                                     thickness=thickness, project_psd=project_psd)
+        self._sim = _core.Simulation(
+            model, cell_type, points, cells, material, settings, kind, pcg, thickness=thickness, project_psd=project_psd
+        )
         self._rest = body.mesh.points
         self.gravity = gravity
 
@@ -78,8 +100,13 @@ class Simulation(DrivenBody):
         left exactly as it was before the call."""
         self._sim.step(int(n))
 
-    def solve_static(self, load_steps: int = 1, tolerance: float = 1e-8, max_iterations: int = 100,
-                     prescribed=None) -> dict:
+    def solve_static(
+        self,
+        load_steps: int = 1,
+        tolerance: float = 1e-8,
+        max_iterations: int = 100,
+        prescribed: ArrayLike | None = None,
+    ) -> dict:
         """Move the body to static equilibrium under external forces and gravity.
 
         Newton iterations (a step that would blow the residual up is halved), with

@@ -1,9 +1,10 @@
 """Linear solver choices for the implicit step."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import _core
+import corotate._core as _core
 
 PRECONDITIONERS = ("two_level", "reference_factor", "block_jacobi", "jacobi", "none")
 
@@ -29,12 +30,16 @@ class PCG:
     preconditioner: str = "two_level"
     warm_start: bool = True
 
-    def _settings(self) -> "_core.PCGSettings":
+    def _settings(self) -> _core.PCGSettings:
         if self.preconditioner not in PRECONDITIONERS:
-            raise ValueError(f"unknown preconditioner {self.preconditioner!r}; choose one of {', '.join(PRECONDITIONERS)}")
-        return _core.PCGSettings(int(self.max_iterations), float(self.tolerance), bool(self.warm_start), self.preconditioner)
+            raise ValueError(
+                f"unknown preconditioner {self.preconditioner!r}; choose one of {', '.join(PRECONDITIONERS)}"
+            )
+        return _core.PCGSettings(
+            int(self.max_iterations), float(self.tolerance), bool(self.warm_start), self.preconditioner
+        )
 
-    def _args(self):
+    def _args(self) -> tuple[str, _core.PCGSettings]:
         return "pcg", self._settings()
 
 
@@ -42,5 +47,5 @@ class PCG:
 class Direct:
     """Sparse direct solve (Eigen SimplicialLDLT; pattern analysed once, factorized per step)."""
 
-    def _args(self):
+    def _args(self) -> tuple[str, _core.PCGSettings]:
         return "direct", _core.PCGSettings()

@@ -8,25 +8,31 @@ x, y in [4, 5]: a force on a single node is a point load, whose displacement gro
 bound as the mesh is refined (the paper notes the singularity), so it is not a fair measure
 of the formulations. The curves are the displacement of the corner node (5, 5, 1.5).
 """
+
 from __future__ import annotations
 
 import csv
+import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .body import Body
 from .material import Material
 from .mesh import box
-from .simulation import Simulation
 from .scenes import pyplot
+from .simulation import Simulation
 from .solvers import Direct
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 MODELS = ("linear", "corotational", "stvk")
 TOTAL_FORCE = 1.3e10  # N, in -z
 
 
-def steel_block(cells=(7, 7, 3), levels: int = 10, fractions=None) -> dict:
+def steel_block(cells: tuple[int, int, int] = (7, 7, 3), levels: int = 10, fractions: ArrayLike | None = None) -> dict:
     """Load-displacement curves of the corner node for the three formulations.
 
     cells      (3,) cubes per direction, each cut into 6 tets ((7, 7, 3): 882 tets)
@@ -54,7 +60,7 @@ def steel_block(cells=(7, 7, 3), levels: int = 10, fractions=None) -> dict:
     return result
 
 
-def write_csv(result: dict, path) -> Path:
+def write_csv(result: dict, path: str | os.PathLike[str]) -> Path:
     """One row per load level: load [N], then u_x, u_y, u_z [m] for each formulation."""
     path = Path(path)
     with path.open("w", newline="") as f:
@@ -65,7 +71,7 @@ def write_csv(result: dict, path) -> Path:
     return path
 
 
-def plot(result: dict, path) -> Path | None:
+def plot(result: dict, path: str | os.PathLike[str]) -> Path | None:
     """The paper's Fig. 4: corner displacement in x, y and z against the load (PNG)."""
     plt = pyplot()
     if plt is None:

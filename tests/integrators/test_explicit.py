@@ -152,7 +152,7 @@ def test_run_at_twice_the_critical_step_blows_up_detected_never_nan():
     sim = perturbed_lattice_sim(2.0, on_unstable="allow")
     sim.step(5)  # grows but is finite yet
     x0, v0, t0 = sim.positions.copy(), sim.velocities.copy(), sim.time
-    with pytest.raises(RuntimeError, match="non-finite positions or velocities.*state was restored"):
+    with pytest.raises(RuntimeError, match=r"non-finite positions or velocities.*state was restored"):
         sim.step(10_000)
     assert np.isfinite(sim.positions).all() and np.isfinite(sim.velocities).all()
     np.testing.assert_array_equal(sim.positions, x0)

@@ -66,8 +66,9 @@ def test_a_step_above_the_stable_limit_is_refused_or_caught():
     body = sheet()
     probe = cr.ExplicitSimulation(body, integrator="symplectic_euler")
     dt_crit = probe.stability()["critical_step"]
-    sim = cr.ExplicitSimulation(body, dt=2 * dt_crit, integrator="symplectic_euler", on_unstable="raise",
-                                gravity=(0, 0, -9.81))
+    sim = cr.ExplicitSimulation(
+        body, dt=2 * dt_crit, integrator="symplectic_euler", on_unstable="raise", gravity=(0, 0, -9.81)
+    )
     with pytest.raises(ValueError, match="exceeds the stable step"):
         sim.step(1)
     # Taken anyway, it blows up; the failure is reported and the state restored, never NaN.

@@ -12,8 +12,9 @@ def test_newton_converges_quadratically_with_the_exact_hessian():
     mesh = cr.beam(2.0, 0.4, 0.4, cells=(6, 2, 2), element="hex8")
     for model in ("stvk", "neohookean"):
         body = cr.Body(mesh, MAT, model=model)
-        sim = cr.Simulation(body, dt=0.02, gravity=(0, 0, -9.81), integrator="newton", newton_tolerance=1e-13,
-                            newton_iterations=30)
+        sim = cr.Simulation(
+            body, dt=0.02, gravity=(0, 0, -9.81), integrator="newton", newton_tolerance=1e-13, newton_iterations=30
+        )
         sim.fix(mesh.nodes_on_plane("x", 0.0))
         sim.step(15)  # well into a large sag, so the step is nonlinear
         res = np.array(sim.stats["newton_residuals"])

@@ -66,8 +66,9 @@ def test_backward_euler_by_newton_never_gains_energy():
 
 def test_newton_failure_reports_residuals_and_restores_state():
     mesh, body = cantilever()
-    sim = cr.Simulation(body, dt=0.05, gravity=(0, 0, -9.81), integrator="newton", newton_iterations=1,
-                        newton_tolerance=1e-14)
+    sim = cr.Simulation(
+        body, dt=0.05, gravity=(0, 0, -9.81), integrator="newton", newton_iterations=1, newton_tolerance=1e-14
+    )
     sim.fix(mesh.nodes_on_plane("x", 0.0))
     before = sim.positions.copy()
     with pytest.raises(RuntimeError, match="Newton step did not converge in 1 iterations; relative gradient norms"):
@@ -77,7 +78,7 @@ def test_newton_failure_reports_residuals_and_restores_state():
 
 
 def test_newton_settings_are_checked():
-    mesh, body = cantilever()
+    _mesh, body = cantilever()
     with pytest.raises(ValueError, match="Rayleigh beta"):
         cr.Simulation(body, integrator="newton", rayleigh=(0.0, 0.01))
     with pytest.raises(ValueError, match="newton_iterations must be at least 1"):

@@ -2,7 +2,6 @@
 of the forces, and what it buys: quadratic Newton convergence in static solves."""
 
 import numpy as np
-import pytest
 
 import corotate as cr
 

@@ -114,8 +114,9 @@ def test_frame_indifference_of_deformed_body(element):
         np.testing.assert_allclose(fq, f @ Q.T, rtol=0, atol=1e-9 * np.abs(f).max())
         assert body.energy(xq) == pytest.approx(e, rel=1e-9)
         big = np.kron(np.eye(mesh.n_nodes), Q)
-        np.testing.assert_allclose(body.stiffness_matrix(xq).toarray(), big @ K @ big.T,
-                                   rtol=0, atol=1e-9 * np.abs(K).max())
+        np.testing.assert_allclose(
+            body.stiffness_matrix(xq).toarray(), big @ K @ big.T, rtol=0, atol=1e-9 * np.abs(K).max()
+        )
     # Evaluating again at the first configuration gives the same answer (the
     # warm-started rotation iteration does not leave a trace).
     np.testing.assert_allclose(body.internal_forces(x), f, rtol=0, atol=1e-11 * np.abs(f).max())
@@ -156,7 +157,7 @@ def test_corotational_forces_approach_linear_quadratically(element):
 
     g1, f1 = gap(1e-2)
     g2, f2 = gap(1e-3)
-    g3, f3 = gap(1e-4)
+    g3, _f3 = gap(1e-4)
     assert f1 / f2 == pytest.approx(10, rel=1e-9)  # linear forces scale with u
     assert g1 / f1 < 0.01  # close already at 1% strain
     # the difference is second order: 10x smaller u -> 100x smaller gap
@@ -168,7 +169,7 @@ def test_corotational_forces_approach_linear_quadratically(element):
 
 
 def numpy_polar(F):
-    U, s, Vt = np.linalg.svd(F)
+    U, _s, Vt = np.linalg.svd(F)
     D = np.diag([1.0, 1.0, np.sign(np.linalg.det(U @ Vt))])
     return U @ D @ Vt
 
@@ -244,7 +245,7 @@ def test_step_with_inverted_element_stays_finite():
     dist = (p[node] - p[others[0]]) @ normal
     sim.positions[node] = p[node] - 2.5 * dist * normal
     x = sim.positions[cell]
-    assert np.linalg.det((x[1:] - x[0])) < 0  # really inverted
+    assert np.linalg.det(x[1:] - x[0]) < 0  # really inverted
 
     f = sim.internal_forces()
     assert np.all(np.isfinite(f)) and np.abs(f).max() > 0
@@ -256,7 +257,9 @@ def test_step_with_inverted_element_stays_finite():
     # the inverted node is pushed back towards the side of the face it came from
     assert (sim.velocities[node] @ normal) * dist > 0
     # and PCG does the same without NaN
-    sim2 = cr.Simulation(body, dt=0.01, solver=cr.PCG(preconditioner="block_jacobi", max_iterations=200, tolerance=1e-10))
+    sim2 = cr.Simulation(
+        body, dt=0.01, solver=cr.PCG(preconditioner="block_jacobi", max_iterations=200, tolerance=1e-10)
+    )
     sim2.fix(mesh.nodes_on_plane("z", 0.0))
     sim2.positions[node] = p[node] - 2.5 * dist * normal
     sim2.step(1)

@@ -48,8 +48,9 @@ def to_block(A):
 
 
 def settings(pc, max_iterations=10000, tolerance=1e-10, warm_start=False):
-    return _core.PCGSettings(max_iterations=max_iterations, tolerance=tolerance, warm_start=warm_start,
-                             preconditioner=pc)
+    return _core.PCGSettings(
+        max_iterations=max_iterations, tolerance=tolerance, warm_start=warm_start, preconditioner=pc
+    )
 
 
 def rel_residual(A, x, b):
@@ -133,7 +134,7 @@ def test_iteration_cap_one_step_is_steepest_descent(box_system):
 
 @pytest.mark.parametrize("pc", ["none", "jacobi", "block_jacobi"])
 def test_warm_start_needs_fewer_iterations(box_system, pc):
-    A, fixed, b = box_system
+    A, _fixed, b = box_system
     B = to_block(A)
     tol = 1e-8
     x1, st1 = _core.solve_linear(B, b, pcg=settings(pc, tolerance=tol))
@@ -180,7 +181,7 @@ def test_iteration_counts_order_on_ill_conditioned_beam(beam_system):
 def test_pcg_on_negative_definite_matrix_raises(box_system, pc):
     A, _, b = box_system
     B = to_block(-A)
-    with pytest.raises(RuntimeError, match="positive|non-positive|singular"):
+    with pytest.raises(RuntimeError, match=r"positive|non-positive|singular"):
         _core.solve_linear(B, b, pcg=settings(pc))
 
 
@@ -200,7 +201,9 @@ def test_pcg_on_indefinite_matrix_raises_not_nan(box_system):
 
 def test_zero_rhs_gives_zero(box_system):
     A, _, b = box_system
-    x, st = _core.solve_linear(to_block(A), np.zeros_like(b), x0=np.ones_like(b), pcg=settings("jacobi", warm_start=True))
+    x, st = _core.solve_linear(
+        to_block(A), np.zeros_like(b), x0=np.ones_like(b), pcg=settings("jacobi", warm_start=True)
+    )
     assert st["iterations"] == 0 and st["converged"]
     assert np.array_equal(x, np.zeros_like(b))
 

@@ -20,7 +20,7 @@ def test_prescribed_tip_translation_gives_the_guided_beam_reaction():
     # delta = P L^3 / (12 E I) + P L / (kappa G A). The reaction is the internal force the
     # model reports on the prescribed nodes.
     L, E, delta = 10.0, 1e7, 0.01
-    mesh, sim, tip = guided_cantilever("linear", length=L)
+    _mesh, sim, tip = guided_cantilever("linear", length=L)
     target = sim.positions.copy()
     target[tip, 2] += delta
     result = sim.solve_static(load_steps=1, prescribed=target)
@@ -50,7 +50,7 @@ def test_large_prescribed_displacement_is_reached_in_load_steps():
 
 
 def test_prescribed_positions_are_checked():
-    mesh, sim, tip = guided_cantilever("linear")
+    _mesh, sim, tip = guided_cantilever("linear")
     with pytest.raises(ValueError, match="prescribed must have shape"):
         sim.solve_static(prescribed=np.zeros((3, 3)))
     bad = sim.positions.copy()

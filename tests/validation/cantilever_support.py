@@ -5,6 +5,7 @@
 * the inextensible elastica of a cantilever under a dead tip load,
 * the first bending frequency of a Timoshenko cantilever (shear + rotary inertia).
 """
+
 from __future__ import annotations
 
 import numpy as np

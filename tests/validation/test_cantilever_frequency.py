@@ -16,14 +16,15 @@ w, rotates the phase by atan(w dt) per step instead of w dt: the period is long 
 by w = tan(w_num dt) / dt. The higher modes are damped far faster (w dt is 6x larger
 for the second mode), so after the first half period the tip moves in the first mode.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import scipy.sparse.linalg as sla
+from cantilever_support import BETA1, timoshenko_first_frequency, tip_face_weights
 
 import corotate as cr
-from cantilever_support import BETA1, timoshenko_first_frequency, tip_face_weights
 
 E, NU, RHO = 1.0e7, 0.0, 1000.0
 L, B, H = 10.0, 1.0, 1.0

@@ -13,13 +13,14 @@ nu = 0 throughout the small-load comparison, so the 3D clamp has no Poisson
 restraint and Timoshenko theory is the right reference (with nu = 0.3 the clamp makes
 the converged 3D answer ~0.9% stiffer; see test_poisson_clamp_effect_is_small).
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from cantilever_support import elastica_tip, timoshenko_tip_deflection, tip_face_weights
 
 import corotate as cr
-from cantilever_support import elastica_tip, timoshenko_tip_deflection, tip_face_weights
 
 E = 1.0e7
 RHO = 1000.0
@@ -36,7 +37,7 @@ def _cantilever(L, b, h, cells, element, model, nu):
 
 def _tip_deflection_linear(L, b, h, cells, element, P, nu=0.0):
     """Downward tip deflection (load-weighted mean of the tip face) of the linear model."""
-    mesh, sim, tip, w = _cantilever(L, b, h, cells, element, "linear", nu)
+    _mesh, sim, tip, w = _cantilever(L, b, h, cells, element, "linear", nu)
     sim.external_forces[tip, 2] = -P * w
     # Linear model: one Newton step is exact. The residual floor is ~1e-9 relative here
     # (positions are stored absolutely, so x - X carries ~eps |X| round-off), hence 1e-6.

@@ -9,15 +9,15 @@ free node balances its weight with spring forces, and since spring forces sum to
 forces of the springs on the pins add up to the weight of all free particles."""
 
 import numpy as np
-import pytest
 
 import corotate as cr
 
 
 def test_cloth_hanging_from_two_corners_balances_gravity_at_the_pins():
     g = np.array([0.0, 0.0, -9.81])
-    body = cr.MassSpringBody.cloth(12, 12, size=(1.0, 1.0), E=2e6, thickness=1e-3, density=200.0,
-                                   bending=0.01, beta=2e-3)
+    body = cr.MassSpringBody.cloth(
+        12, 12, size=(1.0, 1.0), E=2e6, thickness=1e-3, density=200.0, bending=0.01, beta=2e-3
+    )
     sim = cr.ExplicitSimulation(body, dt=1 / 60, gravity=g, mass_damping=2.0)
     pins = [body.n_nodes - 12, body.n_nodes - 1]  # the two corners of the edge y = 1
     sim.fix(pins)
