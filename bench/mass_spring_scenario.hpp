@@ -15,18 +15,18 @@
 #include <string>
 #include <vector>
 
-#include "corotate/explicit_simulation.hpp"
+#include "corotate/simulation.hpp"
 #include "corotate/models/spring_builders.hpp"
 
 namespace corotate::bench {
 
 inline int mass_spring_main(int argc, char** argv) {
   int frames = 30;
-  ExplicitScheme scheme = ExplicitScheme::VelocityVerlet;
+  IntegratorKind scheme = IntegratorKind::Verlet;
   for (int a = 0; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--frames" && a + 1 < argc) frames = std::stoi(argv[++a]);
-    else if (arg == "--integrator" && a + 1 < argc) scheme = explicit_scheme_from_name(argv[++a]);
+    else if (arg == "--integrator" && a + 1 < argc) { scheme = integrator_from_name(argv[++a]); if (!is_explicit(scheme)) throw InvalidInput("--integrator: verlet or symplectic_euler"); }
     else if (arg == "--help" || arg == "-h") {
       std::puts("usage: corotate_bench --scenario mass_spring [--frames N (default 30)] [--integrator verlet|symplectic_euler]");
       return 0;
@@ -62,16 +62,16 @@ inline int mass_spring_main(int argc, char** argv) {
     cases.push_back(std::move(c));
   }
   std::printf("scenario: mass-spring, %s, frames of 1/60 s at 0.9 x the fixed-policy critical step, gravity, %d frames, one thread\n",
-              explicit_scheme_name(scheme), frames);
+              integrator_name(scheme), frames);
   std::printf("%-16s %8s %9s %9s %9s %9s %8s %10s %9s %9s %9s\n", "body", "nodes", "springs", "precmp_ms", "substeps",
               "ms/frame", "us/sub", "Msprings/s", "rt_ratio", "est_ms", "online_x");
   for (auto& c : cases) {
     const auto t0 = clock_type::now();
     const Index springs = static_cast<Index>(c.system.springs.size()), nodes = c.system.nodes.cols();
-    ExplicitSettings s;
+    IntegratorSettings s;
+    s.kind = scheme;
     s.time_step = 1.0 / 60.0;
-    s.scheme = scheme;
-    ExplicitSimulation sim(std::make_unique<MassSpring>(c.system.nodes, std::move(c.system.springs), c.system.masses), s);
+    Simulation sim(std::make_unique<MassSpring>(c.system.nodes, std::move(c.system.springs), c.system.masses), s);
     sim.set_fixed_nodes(c.pinned);
     sim.set_gravity(Vec3(0, 0, -9.81));
     const double fixed_step = sim.stability().critical_step;

@@ -324,7 +324,7 @@ def test_bad_rayleigh_and_mass_kind():
 
 def test_unknown_model_and_preconditioner():
     mesh = cr.box((1, 1, 1), (1, 1, 1), "tet4")
-    with pytest.raises(ValueError, match=r"unknown model 'neo-hookean'.*corotational, linear"):
+    with pytest.raises(ValueError, match=r"unknown model 'neo-hookean'.*'linear', 'corotational'"):
         cr.Body(mesh, MAT, model="neo-hookean")
     with pytest.raises(ValueError, match="unknown model 'mooney-rivlin'"):
         _core.ForceModel("mooney-rivlin", "tetra", mesh.points, mesh.cells, MAT._core())

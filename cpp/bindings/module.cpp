@@ -10,7 +10,7 @@
 #include "corotate/elements/element_matrices.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/models/rotation_extraction.hpp"
-#include "corotate/simulation.hpp"
+#include "corotate/integrators/integrator.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
 
@@ -20,8 +20,12 @@ using namespace corotate::bindings;
 
 void bind_mass_spring(py::module_& m);  // mass_spring_bindings.cpp
 void bind_hyperelastic(py::module_& m);  // hyperelastic_bindings.cpp
+void bind_simulation(py::module_& m);  // simulation_bindings.cpp
+std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const PCGSettings& pcg);  // simulation_bindings.cpp
 
 namespace {
+
+const PCGSettings kPCG{};  // defaults
 
 
 // Block matrix from a symmetric COO description of a 3n x 3n matrix.
@@ -37,6 +41,13 @@ BlockSparseMatrix from_coo(Index size, const Eigen::VectorXi& rows, const Eigen:
   for (Index k = 0; k < rows.size(); ++k)
     A.block(A.block_index(rows[k] / 3, cols[k] / 3))(rows[k] % 3, cols[k] % 3) += values[k];
   return A;
+}
+
+py::tuple stiffness_csr(ForceModel& model, const Nodes& x, StiffnessKind kind) {
+  BlockSparseMatrix K = model.pattern();
+  K.set_zero();
+  model.add_stiffness(x, kind, 1.0, K);
+  return to_csr(K);
 }
 
 py::dict solve_stats_dict(const SolveStats& s) {
@@ -62,16 +73,27 @@ py::dict element_matrices_dict(const PointsIn& points, const Material& material)
   return d;
 }
 
-std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const PCGSettings& pcg) {
-  if (kind == "pcg") return std::make_unique<PCG>(pcg);
-  if (kind == "direct") return std::make_unique<DirectSolver>();
-  throw InvalidInput("unknown solver '" + kind + "' (choose 'pcg' or 'direct')");
-}
-
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
-  m.doc() = "corotate C++ core: element matrices, force models, solvers, implicit stepping.";
+  m.doc() = "corotate C++ core: element matrices, force models, solvers, implicit and explicit stepping.";
+#ifdef COROTATE_VERSION
+  m.attr("__version__") = COROTATE_VERSION;
+#endif
+  // The name lists Python offers as choices: defined once, here in C++.
+  m.def("model_names", &model_names, "Every force model name.");
+  m.def("cell_type_names", &cell_type_names, "Every supported cell type (meshio names).");
+  m.def("models_for_cell_type", &models_for_cell_type, py::arg("cell_type"), "The models available for a cell type.");
+  m.def("preconditioner_names", &preconditioner_names, "Every PCG preconditioner name.");
+  m.def("integrator_names", &integrator_names, "Every integrator name.");
+  m.def("explicit_integrator_names", [] {
+    std::vector<std::string> out;
+    for (const auto& name : integrator_names())
+      if (is_explicit(integrator_from_name(name))) out.push_back(name);
+    return out;
+  }, "The explicit integrators.");
+  m.def("time_step_policy_names", &time_step_policy_names);
+  m.def("on_unstable_names", &on_unstable_names);
 
   py::class_<Material>(m, "Material")
       .def(py::init([](double E, double nu, double density) {
@@ -103,40 +125,34 @@ PYBIND11_MODULE(_core, m) {
 
   py::class_<ForceModel>(m, "ForceModel")
       .def(py::init([](const std::string& model, const std::string& cell_type, const PointsIn& points, const CellsIn& cells,
-                       const Material& material) {
-             return make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells), material);
+                       const Material& material, double thickness, bool project_psd) {
+             return make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells), material,
+                               ModelOptions{thickness, project_psd});
            }),
-           py::arg("model"), py::arg("cell_type"), py::arg("points"), py::arg("cells"), py::arg("material"))
+           py::arg("model"), py::arg("cell_type"), py::arg("points"), py::arg("cells"), py::arg("material"),
+           py::arg("thickness") = ModelOptions{}.thickness, py::arg("project_psd") = ModelOptions{}.project_psd,
+           "Force model by name (see model_names) on one cell type: thickness of triangle sheets [m], project_psd\n"
+           "(clamp each element stiffness to positive semi-definite).")
       .def_property_readonly("name", &ForceModel::name)
       .def_property_readonly("num_nodes", &ForceModel::num_nodes)
       .def("internal_forces", [](ForceModel& self, const PointsIn& x) {
         const Nodes X = checked_positions(self, x);
-        self.update(X);
         Nodes f = Nodes::Zero(3, X.cols());
         self.add_forces(X, f);
         return Eigen::MatrixXd(f.transpose());
       }, py::arg("positions"), "Internal elastic forces (n, 3) at positions (n, 3).")
       .def("energy", [](ForceModel& self, const PointsIn& x) {
-        const Nodes X = checked_positions(self, x);
-        self.update(X);
-        return self.energy(X);
+        return self.energy(checked_positions(self, x));
       }, py::arg("positions"))
       .def("stiffness_csr", [](ForceModel& self, const PointsIn& x) {
-        const Nodes X = checked_positions(self, x);
-        self.update(X);
-        BlockSparseMatrix K = self.pattern();
-        K.set_zero();
-        self.add_stiffness(1.0, K);
-        return to_csr(K);
-      }, py::arg("positions"), "Stiffness at positions as a CSR triple (data, indices, indptr).")
+        return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Model);
+      }, py::arg("positions"), "Stiffness (the one implicit steps use) at positions as a CSR triple (data, indices, indptr).")
       .def("tangent_csr", [](ForceModel& self, const PointsIn& x) {
-        const Nodes X = checked_positions(self, x);
-        self.update(X);
-        BlockSparseMatrix K = self.pattern();
-        K.set_zero();
-        self.add_tangent_stiffness(X, 1.0, K);
-        return to_csr(K);
-      }, py::arg("positions"), "Exact tangent -df/dx at positions as a CSR triple (see add_tangent_stiffness).")
+        return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Tangent);
+      }, py::arg("positions"), "Exact tangent -df/dx at positions as a CSR triple.")
+      .def("geometric_stiffness_csr", [](ForceModel& self, const PointsIn& x) {
+        return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Geometric);
+      }, py::arg("positions"), "Initial-stress stiffness K_sigma at positions (n, 3) as a CSR triple.")
       .def("mass_csr", [](ForceModel& self, bool lumped) { return to_csr(self.mass_matrix(lumped)); }, py::arg("lumped"));
 
   py::class_<BlockSparseMatrix>(m, "BlockSparseMatrix")
@@ -153,11 +169,12 @@ PYBIND11_MODULE(_core, m) {
   py::class_<PCGSettings>(m, "PCGSettings")
       .def(py::init([](int max_iterations, double tolerance, bool warm_start, const std::string& preconditioner) {
              PCGSettings s{max_iterations, tolerance, warm_start, preconditioner_kind_from_name(preconditioner)};
-             PCG check(s);  // validates
+             s.validate();
              return s;
            }),
-           py::arg("max_iterations") = 20, py::arg("tolerance") = 1e-6, py::arg("warm_start") = true,
-           py::arg("preconditioner") = "block_jacobi")
+           py::arg("max_iterations") = kPCG.max_iterations, py::arg("tolerance") = kPCG.tolerance,
+           py::arg("warm_start") = kPCG.warm_start, py::arg("preconditioner") = std::string(preconditioner_name(kPCG.preconditioner)),
+           "Settings of the capped PCG solver; the defaults are corotate's default solver.")
       .def_readonly("max_iterations", &PCGSettings::max_iterations)
       .def_readonly("tolerance", &PCGSettings::tolerance)
       .def_readonly("warm_start", &PCGSettings::warm_start)
@@ -177,86 +194,7 @@ PYBIND11_MODULE(_core, m) {
         "Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node\n"
         "positions, needed by the two_level preconditioner. Returns (x, stats).");
 
-  py::class_<ImplicitEulerSettings>(m, "ImplicitEulerSettings")
-      .def(py::init([](double dt, double alpha, double beta, bool lumped, int newton_iterations, double newton_tolerance) {
-             ImplicitEulerSettings s{dt, alpha, beta, lumped, newton_iterations, newton_tolerance};
-             s.validate();
-             return s;
-           }),
-           py::arg("time_step"), py::arg("rayleigh_alpha") = 0.0, py::arg("rayleigh_beta") = 0.0, py::arg("lumped_mass") = false,
-           py::arg("newton_iterations") = 0, py::arg("newton_tolerance") = 1e-6)
-      .def_readonly("newton_iterations", &ImplicitEulerSettings::newton_iterations)
-      .def_readonly("newton_tolerance", &ImplicitEulerSettings::newton_tolerance)
-      .def_readonly("time_step", &ImplicitEulerSettings::time_step)
-      .def_readonly("rayleigh_alpha", &ImplicitEulerSettings::rayleigh_alpha)
-      .def_readonly("rayleigh_beta", &ImplicitEulerSettings::rayleigh_beta)
-      .def_readonly("lumped_mass", &ImplicitEulerSettings::lumped_mass);
-
-  py::class_<Simulation>(m, "Simulation")
-      .def(py::init([](const std::string& model, const std::string& cell_type, const PointsIn& points, const CellsIn& cells,
-                       const Material& material, const ImplicitEulerSettings& settings, const std::string& solver,
-                       const PCGSettings& pcg, double thickness, bool project_psd) {
-             return std::make_unique<Simulation>(make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells),
-                                                            material, ModelOptions{thickness, project_psd}),
-                                                 settings, make_solver(solver, pcg));
-           }),
-           py::arg("model"), py::arg("cell_type"), py::arg("points"), py::arg("cells"), py::arg("material"),
-           py::arg("settings"), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{}, py::arg("thickness") = 1.0,
-           py::arg("project_psd") = false)
-      .def_property_readonly("positions", [](py::object self) { return node_view(self.cast<Simulation&>().positions(), self); })
-      .def_property_readonly("velocities", [](py::object self) { return node_view(self.cast<Simulation&>().velocities(), self); })
-      .def_property_readonly("external_forces", [](py::object self) { return node_view(self.cast<Simulation&>().external_forces(), self); })
-      .def_property_readonly("gravity_forces", [](const Simulation& s) { return Eigen::MatrixXd(s.gravity_forces().transpose()); })
-      .def_property_readonly("time", &Simulation::time)
-      .def_property_readonly("num_nodes", &Simulation::num_nodes)
-      .def_property("gravity", &Simulation::gravity, &Simulation::set_gravity)
-      .def_property("fixed_nodes", &Simulation::fixed_nodes, &Simulation::set_fixed_nodes)
-      .def_property("settings", &Simulation::settings, &Simulation::set_settings)
-      .def("set_solver", [](Simulation& s, const std::string& solver, const PCGSettings& pcg) { s.set_solver(make_solver(solver, pcg)); },
-           py::arg("solver"), py::arg("pcg") = PCGSettings{})
-      .def("step", &Simulation::step, py::arg("n") = 1, py::call_guard<py::gil_scoped_release>())
-      .def("solve_static", [](Simulation& s, int load_steps, double tolerance, int max_iterations,
-                              const std::optional<PointsIn>& prescribed) {
-        std::optional<Nodes> target;
-        if (prescribed) {
-          target = nodes_from(*prescribed, "prescribed positions");
-          if (target->cols() != s.num_nodes()) throw InvalidInput("prescribed positions must have one row per node");
-        }
-        const StaticResult r = s.solve_static({load_steps, tolerance, max_iterations}, target ? &*target : nullptr);
-        py::dict d;
-        d["residual_history"] = r.residual_history;
-        d["iterations"] = r.total_iterations;
-        return d;
-      }, py::arg("load_steps") = 1, py::arg("tolerance") = 1e-8, py::arg("max_iterations") = 100,
-         py::arg("prescribed") = py::none())
-      .def("internal_forces", [](Simulation& s) {
-        s.model().update(s.positions());
-        Nodes f = Nodes::Zero(3, s.num_nodes());
-        s.model().add_forces(s.positions(), f);
-        return Eigen::MatrixXd(f.transpose());
-      })
-      .def("energy", [](Simulation& s) { s.model().update(s.positions()); return s.model().energy(s.positions()); })
-      .def_property_readonly("stats", [](const Simulation& s) {
-        const auto& st = s.stats();
-        py::dict d;
-        d["steps"] = st.steps;
-        d["iterations"] = st.last.solve.iterations;
-        d["newton_iterations"] = st.last.newton_iterations;
-        d["newton_residuals"] = st.last.newton_residuals;
-        d["residual"] = st.last.solve.relative_residual;
-        d["converged"] = st.last.solve.converged;
-        d["iterations_per_step"] = st.iterations_per_step();
-        d["ms_per_step"] = st.ms_per_step();
-        d["rotation_ms"] = st.last.rotation_ms;
-        d["assembly_ms"] = st.last.assembly_ms;
-        d["solve_ms"] = st.last.solve_ms;
-        d["simulated_time"] = st.simulated_time;
-        d["wall_time"] = st.wall_ms * 1e-3;
-        d["real_time_ratio"] = st.real_time_ratio();
-        return d;
-      })
-      .def("reset_stats", &Simulation::reset_stats);
-
+  bind_simulation(m);     // simulation_bindings.cpp
   bind_mass_spring(m);  // after ForceModel, which MassSpring derives from
   bind_hyperelastic(m);  // after ForceModel, which it returns
 }

@@ -1,18 +1,19 @@
 #include "corotate/simulation.hpp"
 
-#include <chrono>
 #include <sstream>
 
 #include "corotate/solvers/direct_solver.hpp"
+#include "corotate/solvers/pcg.hpp"
 
 namespace corotate {
 
-Simulation::Simulation(std::unique_ptr<ForceModel> model, const ImplicitEulerSettings& settings,
+Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettings& settings,
                        std::unique_ptr<LinearSolver> solver)
     : model_(std::move(model)), solver_(std::move(solver)) {
   if (!model_) throw InvalidInput("Simulation needs a force model");
-  if (!solver_) throw InvalidInput("Simulation needs a linear solver");
-  integrator_ = std::make_unique<ImplicitEuler>(*model_, settings);
+  if (!solver_) solver_ = std::make_unique<PCG>();
+  integrator_ = make_integrator(settings);
+  integrator_->attach(*model_);
   solver_->set_geometry(model_->rest_positions());
   x_ = model_->rest_positions();
   const Index n = model_->num_nodes();
@@ -24,6 +25,8 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const ImplicitEulerSet
   fixed_ = FixedDofs(model_->pattern(), std::vector<char>(3 * n, 0));
   rebuild_gravity_forces();
 }
+
+StepInput Simulation::input() { return {*model_, x_, v_, load_, fixed_, *solver_}; }
 
 void Simulation::rebuild_gravity_forces() {
   // Consistent body-force load: M (1 (x) g). With a lumped mass it is m_i g per node.
@@ -55,76 +58,117 @@ void Simulation::set_fixed_nodes(const std::vector<Index>& nodes) {
   }
   fixed_ = FixedDofs(model_->pattern(), flags);
   fixed_nodes_ = nodes;
+  integrator_->constraints_changed(fixed_);
   solver_->reset();  // a cached factorization belongs to the old constraints
 }
 
-void Simulation::set_settings(const ImplicitEulerSettings& settings) {
-  integrator_ = std::make_unique<ImplicitEuler>(*model_, settings);
+void Simulation::set_settings(const IntegratorSettings& settings) {
+  auto integrator = make_integrator(settings);  // validates before anything changes
+  integrator->attach(*model_);
+  integrator->constraints_changed(fixed_);
+  integrator_ = std::move(integrator);
   solver_->reset();
   rebuild_gravity_forces();
 }
 
 void Simulation::set_solver(std::unique_ptr<LinearSolver> solver) {
   if (!solver) throw InvalidInput("Simulation needs a linear solver");
+  solver->set_geometry(model_->rest_positions());
   solver_ = std::move(solver);
-  solver_->set_geometry(model_->rest_positions());
 }
 
-void Simulation::check_finite_state() const { corotate::check_finite_state(x_, v_, f_ext_); }
+void Simulation::record_estimates() {
+  if (ExplicitIntegrator* e = integrator_->as_explicit()) {
+    const auto [ms, count] = e->take_estimate_cost();
+    stats_.estimate_ms += ms;
+    stats_.estimates += count;
+  }
+}
 
 void Simulation::step(int n) {
   if (n < 0) throw InvalidInput("step count must be non-negative");
-  check_finite_state();
+  check_finite_state(x_, v_, f_ext_);
   x_backup_ = x_;  // restored if any of the n steps fails (no allocation after the first call)
   v_backup_ = v_;
   const double time_before = time_;
   const SimulationStats stats_before = stats_;
-  const double dt = integrator_->settings().time_step;
+  integrator_->save_state();
   try {
+    load_ = f_ext_ + gravity_forces_;
+    const StepInput in = input();
+    integrator_->begin(in);
     for (int s = 0; s < n; ++s) {
-      load_ = f_ext_ + gravity_forces_;
-      const StepStats st = integrator_->step(x_, v_, load_, fixed_, *solver_, x_next_, v_next_);
+      StepStats st = integrator_->step(in, x_next_, v_next_);
       if (Index i = first_non_finite_node(x_next_); i >= 0 || !v_next_.allFinite()) {
         std::ostringstream msg;
         msg << "step " << stats_.steps + 1 << " produced non-finite positions or velocities"
             << (i >= 0 ? " (first at node " + std::to_string(i) + ")" : "")
-            << "; the state was restored. Is the time step too large or the mesh inverted?";
+            << "; the state was restored. " << integrator_->non_finite_hint(st);
         throw SolverFailure(msg.str());
       }
       // Copy, not swap: NumPy views point at x_'s and v_'s buffers and must stay valid.
       x_ = x_next_;
       v_ = v_next_;
-      time_ += dt;
-      stats_.last = st;
+      time_ += st.dt;
       ++stats_.steps;
+      stats_.substeps += st.substeps;
       stats_.total_iterations += st.solve.iterations;
-      stats_.simulated_time += dt;
+      stats_.simulated_time += st.dt;
       stats_.wall_ms += st.total_ms;
+      stats_.last = std::move(st);
+      record_estimates();
     }
   } catch (...) {
     x_ = x_backup_;
     v_ = v_backup_;
     time_ = time_before;
     stats_ = stats_before;
-    integrator_->reset_warm_start();
+    integrator_->restore_state();
     throw;
   }
 }
 
 StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed) {
-  check_finite_state();
-  const Nodes x_before = x_;
+  check_finite_state(x_, v_, f_ext_);
+  x_backup_ = x_;
   load_ = f_ext_ + gravity_forces_;
   DirectSolver direct;
   try {
     StaticResult result = corotate::solve_static(*model_, x_, load_, fixed_, settings, direct, prescribed);
     v_.setZero();
-    integrator_->reset_warm_start();
     return result;
   } catch (...) {
-    x_ = x_before;
+    x_ = x_backup_;
     throw;
   }
+}
+
+ExplicitIntegrator& Simulation::explicit_integrator() {
+  ExplicitIntegrator* e = integrator_->as_explicit();
+  if (!e)
+    throw InvalidInput(std::string("the '") + integrator_->name() +
+                       "' integrator is implicit: it has no explicit stability limit");
+  return *e;
+}
+
+const StabilityEstimate& Simulation::stability() {
+  ExplicitIntegrator& e = explicit_integrator();
+  const StabilityEstimate& est = e.stability(input());
+  record_estimates();
+  return est;
+}
+
+StabilityEstimate Simulation::estimate_stability(bool bound) {
+  ExplicitIntegrator& e = explicit_integrator();
+  const StabilityEstimate est = e.estimate_stability(input(), bound);
+  record_estimates();
+  return est;
+}
+
+double Simulation::kinetic_energy() const {
+  Vec mv(v_.size());
+  integrator_->mass().multiply(as_dofs(v_), mv);
+  return 0.5 * as_dofs(v_).dot(mv);
 }
 
 }  // namespace corotate

@@ -9,15 +9,15 @@ import scipy.sparse as sp
 
 import corotate._core as _core
 
+from .choices import MODELS, ModelName
 from .material import Material
 from .mesh import Mesh
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-MODELS = ("corotational", "linear", "stvk", "neohookean", "corotated")
 #: Models that are full geometrically nonlinear (hyperelastic, total Lagrangian).
-HYPERELASTIC_MODELS = ("stvk", "neohookean", "corotated")
+HYPERELASTIC_MODELS = tuple(m for m in MODELS if m not in ("linear", "corotational"))
 
 
 def _csr(triple: tuple[np.ndarray, np.ndarray, np.ndarray], n_dofs: int) -> sp.csr_matrix:
@@ -51,7 +51,7 @@ class Body:
         self,
         mesh: Mesh,
         material: Material,
-        model: str = "corotational",
+        model: ModelName = "corotational",
         thickness: float | None = None,
         project_psd: bool = False,
     ) -> None:
@@ -59,8 +59,6 @@ class Body:
             raise TypeError("mesh must be a corotate.Mesh (see corotate.read_mesh, corotate.box)")
         if not isinstance(material, Material):
             raise TypeError("material must be a corotate.Material")
-        if model not in MODELS:
-            raise ValueError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
         if mesh.cell_type == "triangle":
             if thickness is None:
                 raise ValueError("a triangle (sheet) mesh needs thickness=... [m]")
@@ -74,19 +72,15 @@ class Body:
         self.model = model
         self.thickness = thickness
         self.project_psd = bool(project_psd)
-        self._force_model = _core.make_force_model(*self._model_spec())
-
-    def _model_spec(self) -> tuple:
-        """Arguments that build this body's C++ force model (simulations build their own)."""
-        mesh = self.mesh
-        return (
-            self.model,
+        # The C++ model (precomputed element data); every simulation steps its own copy.
+        self._force_model = _core.ForceModel(
+            model,
             mesh.cell_type,
             mesh.points,
             mesh.cells,
-            self.material._core(),
-            1.0 if self.thickness is None else self.thickness,
-            self.project_psd,
+            material._core(),
+            thickness=1.0 if thickness is None else thickness,
+            project_psd=self.project_psd,
         )
 
     @property
@@ -116,9 +110,7 @@ class Body:
         K_sigma has blocks sum_q w_q (G_a^T S G_b) I_3 (S the second Piola-Kirchhoff stress,
         G_a = dN_a/dX at quadrature point q), the stress part of K_T = K_0 + K_u + K_sigma
         (paper eq. 6). Raises ValueError for "linear" and "corotational"."""
-        return _csr(
-            _core.geometric_stiffness_csr(self._force_model, self._check_positions(positions)), 3 * self.n_nodes
-        )
+        return _csr(self._force_model.geometric_stiffness_csr(self._check_positions(positions)), 3 * self.n_nodes)
 
     def tangent_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
         """The exact tangent -df/dx (3n x 3n) at positions (default: rest): for co-rotated

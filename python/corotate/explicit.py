@@ -11,6 +11,13 @@ import numpy as np
 import corotate._core as _core
 
 from .body import Body
+from .choices import (
+    EXPLICIT_INTEGRATORS,
+    ExplicitIntegratorName,
+    OnUnstableName,
+    TimeStepPolicyName,
+    check_choice,
+)
 from .driven_body import DrivenBody
 from .mass_spring import MassSpringBody
 
@@ -19,9 +26,7 @@ if TYPE_CHECKING:
 
 __all__ = ["ExplicitSimulation"]
 
-INTEGRATORS = ("verlet", "symplectic_euler")
-POLICIES = ("fixed", "online")
-ON_UNSTABLE = ("substep", "raise", "allow")
+_DEFAULTS = _core.IntegratorSettings(integrator="verlet", time_step=0.0)  # the defaults live in C++
 
 
 class ExplicitSimulation(DrivenBody):
@@ -56,12 +61,12 @@ class ExplicitSimulation(DrivenBody):
         self,
         body: MassSpringBody | Body,
         dt: float | None = None,
-        integrator: str = "verlet",
-        on_unstable: str = "substep",
-        policy: str = "fixed",
-        safety: float = 0.9,
+        integrator: ExplicitIntegratorName = "verlet",
+        on_unstable: OnUnstableName = _DEFAULTS.on_unstable,
+        policy: TimeStepPolicyName = _DEFAULTS.policy,
+        safety: float = _DEFAULTS.safety,
         gravity: ArrayLike = (0.0, 0.0, 0.0),
-        mass_damping: float = 0.0,
+        mass_damping: float = _DEFAULTS.mass_damping,
     ) -> None:
         if not isinstance(body, (MassSpringBody, Body)):
             raise TypeError("body must be a corotate.MassSpringBody or a corotate.Body")
@@ -74,15 +79,14 @@ class ExplicitSimulation(DrivenBody):
             safety=float(safety),
             mass_damping=float(mass_damping),
         )
+        check_choice(integrator, EXPLICIT_INTEGRATORS, "integrator")
         if isinstance(body, MassSpringBody):
             self._rest = body.nodes
-            self._sim = _core.ExplicitSimulation(
-                body.nodes, body.springs, body.stiffness, body.damping, body.rest_lengths, body.masses, **self._settings
-            )
-        else:  # a finite-element body with its lumped mass (project_psd plays no part here)
+            model = body._model
+        else:  # a finite-element body, stepped with its lumped mass
             self._rest = body.mesh.points
-            model, cell_type, points, cells, material, thickness, _ = body._model_spec()
-            self._sim = _core.ExplicitSimulation(model, cell_type, points, cells, material, thickness, **self._settings)
+            model = body._force_model
+        self._sim = _core.Simulation(model, _core.IntegratorSettings(**self._settings))
         self.gravity = gravity
 
     @staticmethod
@@ -96,7 +100,7 @@ class ExplicitSimulation(DrivenBody):
 
     def _configure(self, **changes: Any) -> None:
         settings = {**self._settings, **changes}
-        self._sim.configure(**settings)
+        self._sim.settings = _core.IntegratorSettings(**settings)
         self._settings = settings
 
     # --- settings ----------------------------------------------------------------------

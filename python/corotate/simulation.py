@@ -9,14 +9,14 @@ import numpy as np
 import corotate._core as _core
 
 from .body import Body
+from .choices import IMPLICIT_INTEGRATORS, MASS_KINDS, ImplicitIntegratorName, MassKind, check_choice
 from .driven_body import DrivenBody
 from .solvers import PCG, Direct
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-MASS_KINDS = ("consistent", "lumped")
-INTEGRATORS = ("linearized", "newton")
+_DEFAULTS = _core.IntegratorSettings()  # the defaults live in C++ (integrators/integrator.hpp)
 
 
 class Simulation(DrivenBody):
@@ -46,23 +46,19 @@ class Simulation(DrivenBody):
     def __init__(
         self,
         body: Body,
-        dt: float = 0.01,
+        dt: float = _DEFAULTS.time_step,
         solver: PCG | Direct | None = None,
         gravity: ArrayLike = (0.0, 0.0, 0.0),
-        mass: str = "consistent",
-        rayleigh: tuple[float, float] = (0.0, 0.0),
-        integrator: str = "linearized",
-        newton_iterations: int = 20,
-        newton_tolerance: float = 1e-6,
+        mass: MassKind = "consistent",
+        rayleigh: tuple[float, float] = (_DEFAULTS.mass_damping, _DEFAULTS.stiffness_damping),
+        integrator: ImplicitIntegratorName = "linearized",
+        newton_iterations: int = _DEFAULTS.newton_iterations,
+        newton_tolerance: float = _DEFAULTS.newton_tolerance,
     ) -> None:
         if not isinstance(body, Body):
             raise TypeError("body must be a corotate.Body")
-        if mass not in MASS_KINDS:
-            raise ValueError(f"unknown mass {mass!r}; choose 'consistent' or 'lumped'")
-        if integrator not in INTEGRATORS:
-            raise ValueError(f"unknown integrator {integrator!r}; choose 'linearized' or 'newton'")
-        if integrator == "newton" and int(newton_iterations) < 1:
-            raise ValueError(f"newton_iterations must be at least 1, got {newton_iterations}")
+        check_choice(mass, MASS_KINDS, "mass")
+        check_choice(integrator, IMPLICIT_INTEGRATORS, "integrator")
         if solver is None:
             solver = Direct() if integrator == "newton" else PCG()
         if not isinstance(solver, (PCG, Direct)):
@@ -70,19 +66,17 @@ class Simulation(DrivenBody):
         alpha, beta = (float(v) for v in rayleigh)
         self.body = body
         self.solver = solver
-        settings = _core.ImplicitEulerSettings(
-            float(dt),
-            alpha,
-            beta,
-            mass == "lumped",
-            int(newton_iterations) if integrator == "newton" else 0,
-            float(newton_tolerance),
+        settings = _core.IntegratorSettings(
+            integrator=integrator,
+            time_step=float(dt),
+            mass_damping=alpha,
+            stiffness_damping=beta,
+            lumped_mass=mass == "lumped",
+            newton_iterations=int(newton_iterations),
+            newton_tolerance=float(newton_tolerance),
         )
         kind, pcg = solver._args()
-        model, cell_type, points, cells, material, thickness, project_psd = body._model_spec()
-        self._sim = _core.Simulation(
-            model, cell_type, points, cells, material, settings, kind, pcg, thickness=thickness, project_psd=project_psd
-        )
+        self._sim = _core.Simulation(body._force_model, settings, kind, pcg)
         self._rest = body.mesh.points
         self.gravity = gravity
 
@@ -125,8 +119,7 @@ class Simulation(DrivenBody):
 
     def kinetic_energy(self) -> float:
         """1/2 v^T M v with the simulation's mass matrix kind."""
-        v = self.velocities.ravel()
-        return 0.5 * float(v @ (self.body.mass_matrix(self._sim.settings.lumped_mass) @ v))
+        return self._sim.kinetic_energy()
 
     @property
     def stats(self) -> dict:

@@ -6,7 +6,9 @@ from dataclasses import dataclass
 
 import corotate._core as _core
 
-PRECONDITIONERS = ("two_level", "reference_factor", "block_jacobi", "jacobi", "none")
+from .choices import PRECONDITIONERS, PreconditionerName, check_choice
+
+_DEFAULTS = _core.PCGSettings()  # the defaults live in C++ (solvers/pcg.hpp)
 
 
 @dataclass(frozen=True)
@@ -25,16 +27,13 @@ class PCG:
     the benchmark beam (bench/README.md).
     """
 
-    max_iterations: int = 20
-    tolerance: float = 1e-2
-    preconditioner: str = "two_level"
-    warm_start: bool = True
+    max_iterations: int = _DEFAULTS.max_iterations
+    tolerance: float = _DEFAULTS.tolerance
+    preconditioner: PreconditionerName = _DEFAULTS.preconditioner
+    warm_start: bool = _DEFAULTS.warm_start
 
     def _settings(self) -> _core.PCGSettings:
-        if self.preconditioner not in PRECONDITIONERS:
-            raise ValueError(
-                f"unknown preconditioner {self.preconditioner!r}; choose one of {', '.join(PRECONDITIONERS)}"
-            )
+        check_choice(self.preconditioner, PRECONDITIONERS, "preconditioner")
         return _core.PCGSettings(
             int(self.max_iterations), float(self.tolerance), bool(self.warm_start), self.preconditioner
         )

@@ -27,6 +27,12 @@ struct SolverFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A system matrix that is not positive definite (an indefinite tangent, a singular block):
+// the one solver failure a Newton iteration answers by falling back to a PSD stiffness.
+struct NotPositiveDefinite : SolverFailure {
+  using SolverFailure::SolverFailure;
+};
+
 // View a 3 x n node matrix as one flat DOF vector (no copy).
 inline Eigen::Map<Vec> as_dofs(Nodes& x) { return {x.data(), x.size()}; }
 inline Eigen::Map<const Vec> as_dofs(const Nodes& x) { return {x.data(), x.size()}; }

@@ -1,12 +1,19 @@
 // A body being simulated: its force model, state (x, v), loads, fixed nodes, integrator
-// and solver, and the statistics of its steps. This is what the Python API drives frame by
-// frame; the benchmark drives it directly.
+// and linear solver, and the statistics of its steps. What the Python API drives frame by
+// frame and the benchmark drives directly; implicit and explicit integration alike (the
+// integrator is a setting, see integrators/integrator.hpp).
+//
+// Every call that changes the state is a transaction: on failure (non-finite input or
+// result, solver failure, an unstable time step that is refused) it throws and leaves
+// positions, velocities, time, statistics and the integrator's carried state (warm starts,
+// stability estimates) exactly as they were before the call.
 #pragma once
 
 #include <memory>
 #include <vector>
 
-#include "corotate/integrators/implicit_euler.hpp"
+#include "corotate/integrators/explicit_integrator.hpp"
+#include "corotate/solvers/linear_solver.hpp"
 #include "corotate/statics/static_solver.hpp"
 
 namespace corotate {
@@ -14,9 +21,12 @@ namespace corotate {
 struct SimulationStats {
   StepStats last;                 // the most recent step
   long long steps = 0;            // steps taken since the last reset_stats
-  long long total_iterations = 0;
+  long long substeps = 0;         // explicit substeps in those steps (= steps for implicit ones)
+  long long total_iterations = 0; // CG iterations
+  long long estimates = 0;        // explicit: stability estimates
   double simulated_time = 0;      // seconds of simulated time in those steps
-  double wall_ms = 0;             // milliseconds of wall time they took
+  double wall_ms = 0;             // milliseconds of wall time they took, estimates included
+  double estimate_ms = 0;         // of which stability estimates
   double ms_per_step() const { return steps ? wall_ms / steps : 0.0; }
   double iterations_per_step() const { return steps ? double(total_iterations) / steps : 0.0; }
   double real_time_ratio() const { return wall_ms > 0 ? simulated_time / (wall_ms * 1e-3) : 0.0; }
@@ -24,8 +34,9 @@ struct SimulationStats {
 
 class Simulation {
  public:
-  Simulation(std::unique_ptr<ForceModel> model, const ImplicitEulerSettings& settings,
-             std::unique_ptr<LinearSolver> solver);
+  // solver: for implicit integrators; null = PCG with its default settings.
+  Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettings& settings,
+             std::unique_ptr<LinearSolver> solver = nullptr);
 
   ForceModel& model() { return *model_; }
   Index num_nodes() const { return model_->num_nodes(); }
@@ -38,17 +49,19 @@ class Simulation {
 
   void set_gravity(const Vec3& g);
   const Vec3& gravity() const { return gravity_; }
-  // Fix the listed nodes in all three axes (replacing the previous set); they keep their
-  // current positions and velocities, so moving them between steps prescribes motion.
+  // Fix the listed nodes in all three axes (replacing the previous set). A step does not
+  // change their velocity: they keep it (zero unless set) and move with it, so writing
+  // positions and velocities between steps prescribes their motion.
   void set_fixed_nodes(const std::vector<Index>& nodes);
   const std::vector<Index>& fixed_nodes() const { return fixed_nodes_; }
 
-  void set_settings(const ImplicitEulerSettings& settings);
-  const ImplicitEulerSettings& settings() const { return integrator_->settings(); }
+  // A new integrator (validated first; on InvalidInput nothing changes).
+  void set_settings(const IntegratorSettings& settings);
+  const IntegratorSettings& settings() const { return integrator_->settings(); }
   void set_solver(std::unique_ptr<LinearSolver> solver);
+  const BlockSparseMatrix& mass() const { return integrator_->mass(); }
 
-  // Take n steps of dt. On failure (non-finite input or result, solver failure) throws and
-  // leaves positions, velocities and time exactly as they were before the call.
+  // Take n steps of settings().time_step.
   void step(int n = 1);
 
   // Static equilibrium under external forces and gravity; velocities become zero.
@@ -57,17 +70,25 @@ class Simulation {
   // converge.
   StaticResult solve_static(const StaticSettings& settings, const Nodes* prescribed = nullptr);
 
-  // Total force the body's mass feels from gravity (M * g per DOF, with the active mass).
+  // Explicit integrators only (InvalidInput otherwise): the stability estimate the next
+  // step uses, and a fresh one of the bound or of the linearised system at the positions.
+  const StabilityEstimate& stability();
+  StabilityEstimate estimate_stability(bool bound);
+
+  double kinetic_energy() const;  // 1/2 v^T M v with the integrator's mass
+  // Total force the body's mass feels from gravity (M g per DOF, with the integrator's mass).
   const Nodes& gravity_forces() const { return gravity_forces_; }
   const SimulationStats& stats() const { return stats_; }
   void reset_stats() { stats_ = {}; }
 
  private:
-  void check_finite_state() const;
   void rebuild_gravity_forces();
+  StepInput input();
+  ExplicitIntegrator& explicit_integrator();
+  void record_estimates();
 
   std::unique_ptr<ForceModel> model_;
-  std::unique_ptr<ImplicitEuler> integrator_;
+  std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<LinearSolver> solver_;
   Nodes x_, v_, f_ext_, gravity_forces_, load_, x_next_, v_next_, x_backup_, v_backup_;
   Vec3 gravity_ = Vec3::Zero();

@@ -29,7 +29,7 @@ void FixedDofs::project(BlockSparseMatrix& A) const {
   for (int v : unit_values_) values[v] = 1.0;
 }
 
-void FixedDofs::project(Vec& b) const {
+void FixedDofs::project(Eigen::Ref<Vec> b) const {
   for (Index d : fixed_list_) b[d] = 0.0;
 }
 

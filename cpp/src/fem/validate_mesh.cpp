@@ -1,7 +1,7 @@
 #include <sstream>
 #include <vector>
 
-#include "corotate/fem/element_set.hpp"
+#include "corotate/fem/validate_mesh.hpp"
 
 namespace corotate {
 

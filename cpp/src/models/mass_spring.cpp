@@ -16,7 +16,7 @@ std::string spring_label(size_t s, const Spring& sp) {
 }  // namespace
 
 MassSpring::MassSpring(const Nodes& rest, std::vector<Spring> springs, const Vec& masses)
-    : rest_(rest), x_(rest), springs_(std::move(springs)), masses_(masses) {
+    : rest_(rest), springs_(std::move(springs)), masses_(masses) {
   const Index n = rest_.cols();
   if (n == 0) throw InvalidInput("a mass-spring system needs at least one node");
   if (masses_.size() != n) {
@@ -72,16 +72,6 @@ BlockSparseMatrix MassSpring::mass_matrix(bool /*lumped*/) const {
   return M;
 }
 
-void MassSpring::add_forces(const Nodes& x, Nodes& f) const {
-  for (const Spring& sp : springs_) {
-    const Vec3 e = x.col(sp.j) - x.col(sp.i);
-    const double l = e.norm();
-    const Vec3 F = (sp.stiffness * (l - sp.rest_length) / l) * e;
-    f.col(sp.i) += F;
-    f.col(sp.j) -= F;
-  }
-}
-
 void MassSpring::add_damping_forces(const Nodes& x, const Nodes& v, Nodes& f) const {
   for (const Spring& sp : springs_) {
     const Vec3 e = x.col(sp.j) - x.col(sp.i);
@@ -128,61 +118,68 @@ void MassSpring::scatter(double scale, BlockSparseMatrix& A, BlockOf block_of) c
   }
 }
 
-void MassSpring::add_stiffness(double scale, BlockSparseMatrix& A) const {
-  scatter(scale, A, [&](const Spring& sp) -> Mat3 {
-    const Vec3 e = x_.col(sp.j) - x_.col(sp.i);
+namespace {
+// The spring Hessian k [u u^T + (1 - l0 / l) (I - u u^T)] for the spring vector e.
+Mat3 spring_hessian(const Spring& sp, const Vec3& e) {
+  const double l = e.norm();
+  const Vec3 u = e / l;
+  const Mat3 uu = u * u.transpose();
+  return sp.stiffness * (uu + (1.0 - sp.rest_length / l) * (Mat3::Identity() - uu));
+}
+}  // namespace
+
+void MassSpring::evaluate(const Nodes& x, const Request& what, Results& out) {
+  check_evaluation(x, what, out);
+  if (what.stiffness == StiffnessKind::Geometric)
+    throw InvalidInput("the 'mass_spring' model has no separate geometric stiffness");
+  const bool stiffness = what.stiffness != StiffnessKind::None;
+  double energy = 0;
+  for (size_t s = 0; s < springs_.size(); ++s) {
+    const Spring& sp = springs_[s];
+    const Vec3 e = x.col(sp.j) - x.col(sp.i);
     const double l = e.norm();
-    const Vec3 u = e / l;
-    const Mat3 uu = u * u.transpose();
-    return sp.stiffness * (uu + (1.0 - sp.rest_length / l) * (Mat3::Identity() - uu));
-  });
+    if (what.energy) energy += 0.5 * sp.stiffness * (l - sp.rest_length) * (l - sp.rest_length);
+    if (!what.forces && !stiffness) continue;
+    Mat3 H;
+    if (stiffness || what.forces_at) H = spring_hessian(sp, e);
+    if (what.forces) {
+      // Elastic force on node i (eq. 1), or its linearisation f(x) - K (y - x) at y.
+      Vec3 F = (sp.stiffness * (l - sp.rest_length) / l) * e;
+      if (what.forces_at) F += H * ((what.forces_at->col(sp.j) - what.forces_at->col(sp.i)) - e);
+      out.forces->col(sp.i) += F;
+      out.forces->col(sp.j) -= F;
+    }
+    if (stiffness) {
+      const Mat3 sH = what.stiffness_scale * H;
+      const auto& b = blocks_[s];
+      out.stiffness->block(b[0]) += sH;
+      out.stiffness->block(b[1]) += sH;
+      out.stiffness->block(b[2]) -= sH;
+      out.stiffness->block(b[3]) -= sH;
+    }
+  }
+  if (what.energy) out.energy = energy;
 }
 
-void MassSpring::add_damping_matrix(double scale, BlockSparseMatrix& A) const {
+void MassSpring::add_damping_matrix(const Nodes& x, double scale, BlockSparseMatrix& A) const {
   scatter(scale, A, [&](const Spring& sp) -> Mat3 {
-    const Vec3 e = x_.col(sp.j) - x_.col(sp.i);
+    const Vec3 e = x.col(sp.j) - x.col(sp.i);
     return sp.damping * e * e.transpose() / e.squaredNorm();
   });
 }
 
-bool MassSpring::add_stiffness_bound(double scale, BlockSparseMatrix& A) const {
+void MassSpring::add_stiffness_bound(double scale, BlockSparseMatrix& A) const {
   scatter(scale, A, [](const Spring& sp) -> Mat3 { return sp.stiffness * Mat3::Identity(); });
-  return true;
 }
 
-bool MassSpring::add_damping_bound(double scale, BlockSparseMatrix& A) const {
+void MassSpring::add_damping_bound(double scale, BlockSparseMatrix& A) const {
   scatter(scale, A, [](const Spring& sp) -> Mat3 { return sp.damping * Mat3::Identity(); });
-  return true;
 }
 
 bool MassSpring::has_damping() const {
   for (const Spring& sp : springs_)
     if (sp.damping > 0) return true;
   return false;
-}
-
-void MassSpring::add_linearized_forces(const Nodes& y, Nodes& f) const {
-  // f(x) - K (y - x), spring by spring, about the positions of the last update.
-  for (const Spring& sp : springs_) {
-    const Vec3 e = x_.col(sp.j) - x_.col(sp.i);
-    const double l = e.norm();
-    const Vec3 u = e / l;
-    const Mat3 uu = u * u.transpose();
-    const Mat3 H = sp.stiffness * (uu + (1.0 - sp.rest_length / l) * (Mat3::Identity() - uu));
-    const Vec3 de = (y.col(sp.j) - y.col(sp.i)) - e;
-    const Vec3 F = sp.stiffness * (l - sp.rest_length) * u + H * de;
-    f.col(sp.i) += F;
-    f.col(sp.j) -= F;
-  }
-}
-
-double MassSpring::energy(const Nodes& x) const {
-  double E = 0;
-  for (const Spring& sp : springs_) {
-    const double stretch = (x.col(sp.j) - x.col(sp.i)).norm() - sp.rest_length;
-    E += 0.5 * sp.stiffness * stretch * stretch;
-  }
-  return E;
 }
 
 }  // namespace corotate

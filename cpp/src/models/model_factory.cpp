@@ -1,42 +1,55 @@
 #include "corotate/models/model_factory.hpp"
 
-#include "corotate/models/corotational_fem.hpp"
-#include "corotate/models/hyperelastic_fem.hpp"
-#include "corotate/models/linear_fem.hpp"
-#include "corotate/models/membrane_fem.hpp"
-#include "corotate/materials/fixed_corotated.hpp"
-#include "corotate/materials/stable_neo_hookean.hpp"
-#include "corotate/materials/stvk.hpp"
+#include <algorithm>
+
+#include "corotate/models/registry.hpp"
 
 namespace corotate {
 
 namespace {
-const char* const kModels = "'linear', 'corotational', 'stvk', 'neohookean' or 'corotated'";
-
-template <class E>
-std::unique_ptr<ForceModel> make_for_element(const std::string& model, const Nodes& rest, const Connectivity& cells,
-                                             const Material& material, const ModelOptions& options) {
-  if (model == "linear") return std::make_unique<LinearFEM<E>>(rest, cells, material);
-  if (model == "corotational") return std::make_unique<CorotationalFEM<E>>(rest, cells, material);
-  if (model == StVK::name) return std::make_unique<HyperelasticFEM<E, StVK>>(rest, cells, material, options.project_psd);
-  if (model == StableNeoHookean::name)
-    return std::make_unique<HyperelasticFEM<E, StableNeoHookean>>(rest, cells, material, options.project_psd);
-  if (model == FixedCorotated::name)
-    return std::make_unique<HyperelasticFEM<E, FixedCorotated>>(rest, cells, material, options.project_psd);
-  throw InvalidInput("unknown model '" + model + "' (choose " + kModels + ")");
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i) out += (i ? (i + 1 == names.size() ? " or '" : ", '") : "'") + names[i] + "'";
+  return out;
 }
 }  // namespace
 
+std::vector<std::string> model_names() {
+  std::vector<std::string> names = {"linear", "corotational"};
+  for (const auto& law : names_of(HyperelasticLaws{})) names.push_back(law);
+  return names;
+}
+
+std::vector<std::string> cell_type_names() {
+  std::vector<std::string> names = names_of(SolidElements{});
+  for (const auto& cell : names_of(MembraneElements{})) names.push_back(cell);
+  return names;
+}
+
+std::vector<std::string> models_for_cell_type(const std::string& cell_type) {
+  bool solid = false, membrane = false;
+  visit_by_name(SolidElements{}, cell_type, [&](auto) { solid = true; });
+  visit_by_name(MembraneElements{}, cell_type, [&](auto) { membrane = true; });
+  if (solid) return model_names();
+  if (membrane) return names_of(MembraneLaws{});
+  return {};
+}
+
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
                                        const Connectivity& cells, const Material& material, const ModelOptions& options) {
-  if (cell_type == Tet4::name) return make_for_element<Tet4>(model, rest, cells, material, options);
-  if (cell_type == Hex8::name) return make_for_element<Hex8>(model, rest, cells, material, options);
-  if (cell_type == Hex20::name) return make_for_element<Hex20>(model, rest, cells, material, options);
-  if (cell_type == Tri3::name) {
-    if (model == StVK::name) return std::make_unique<MembraneFEM>(rest, cells, material, options.thickness, options.project_psd);
-    throw InvalidInput("model '" + model + "' is not available for triangle cells (membranes support 'stvk' only)");
-  }
-  throw InvalidInput("unsupported cell type '" + cell_type + "' (supported: tetra, hexahedron, hexahedron20, triangle)");
+  const std::vector<std::string> models = model_names(), available = models_for_cell_type(cell_type);
+  if (available.empty())
+    throw InvalidInput("unsupported cell type '" + cell_type + "' (supported: " + joined(cell_type_names()) + ")");
+  if (std::find(models.begin(), models.end(), model) == models.end())
+    throw InvalidInput("unknown model '" + model + "' (choose " + joined(models) + ")");
+  if (std::find(available.begin(), available.end(), model) == available.end())
+    throw InvalidInput("model '" + model + "' is not available for " + cell_type + " cells (choose " + joined(available) + ")");
+  std::unique_ptr<ForceModel> built;
+  if (model == "linear") built = make_linear_model(cell_type, rest, cells, material, options);
+  else if (model == "corotational") built = make_corotational_model(cell_type, rest, cells, material, options);
+  else built = make_hyperelastic_model(model, cell_type, rest, cells, material, options);
+  if (!built) throw InvalidInput("model '" + model + "' is not available for " + cell_type + " cells");
+  return built;
 }
 
 }  // namespace corotate

@@ -42,7 +42,7 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>, Eigen::Lower, Eigen::NaturalOrdering<int>> llt(permuted);
   if (llt.info() != Eigen::Success) {
     order_.clear();
-    throw SolverFailure("Cholesky factorization failed: the matrix is not positive definite");
+    throw NotPositiveDefinite("Cholesky factorization failed: the matrix is not positive definite");
   }
   const auto& L = llt.matrixL().nestedExpression();  // CSC, lower triangular
 

@@ -4,9 +4,13 @@
 
 namespace corotate {
 
+void PCGSettings::validate() const {
+  if (max_iterations < 1) throw InvalidInput("PCG: max_iterations must be at least 1");
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) throw InvalidInput("PCG: tolerance must be positive");
+}
+
 PCG::PCG(const PCGSettings& settings) : settings_(settings), preconditioner_(make_preconditioner(settings.preconditioner)) {
-  if (settings.max_iterations < 1) throw InvalidInput("PCG: max_iterations must be at least 1");
-  if (!(settings.tolerance > 0) || !std::isfinite(settings.tolerance)) throw InvalidInput("PCG: tolerance must be positive");
+  settings.validate();
 }
 
 SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
@@ -35,7 +39,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   while (it < settings_.max_iterations) {
     A.multiply(p_, q_);
     const double pq = p_.dot(q_);
-    if (!(pq > 0)) throw SolverFailure("PCG: the system matrix is not positive definite (p^T A p = " + std::to_string(pq) + ")");
+    if (!(pq > 0)) throw NotPositiveDefinite("PCG: the system matrix is not positive definite (p^T A p = " + std::to_string(pq) + ")");
     const double alpha = rz / pq;
     x.noalias() += alpha * p_;
     r_.noalias() -= alpha * q_;

@@ -131,7 +131,7 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   coarse_ = Eigen::SparseMatrix<double, Eigen::ColMajor, int>(restriction_ * (A * prolongation_));
   coarse_factor_.compute(coarse_);
   if (coarse_factor_.info() != Eigen::Success)
-    throw SolverFailure("two-level preconditioner: the coarse matrix is not positive definite");
+    throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
   residual_.resize(dofs);
   correction_.resize(dofs);
   coarse_rhs_.resize(coarse_dofs);

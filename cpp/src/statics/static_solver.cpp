@@ -25,14 +25,19 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
   const Nodes start = x;  // fixed DOFs move from here to the prescribed positions
 
   // r(y) = f_int(y) + lambda * load on the free DOFs.
-  auto evaluate = [&](const Nodes& y, double lambda, BlockSparseMatrix* stiffness) {
-    model.update(y);
+  // With a stiffness, also K(y) of the given kind into it.
+  auto evaluate = [&](const Nodes& y, double lambda, StiffnessKind kind) {
     residual = lambda * load;
-    model.add_forces(y, residual);
-    if (stiffness) {
-      stiffness->set_zero();
-      model.add_tangent_stiffness(y, 1.0, *stiffness);  // exact where the model has it
+    Request what;
+    what.forces = true;
+    what.stiffness = kind;
+    Results out;
+    out.forces = &residual;
+    if (kind != StiffnessKind::None) {
+      K.set_zero();
+      out.stiffness = &K;
     }
+    model.evaluate(y, what, out);
     r = as_dofs(residual);
     fixed.project(r);
     return r.norm();
@@ -51,7 +56,7 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
       for (Index d : fixed.list()) as_dofs(x)[d] = as_dofs(start)[d] + lambda * (as_dofs(*prescribed)[d] - as_dofs(start)[d]);
     auto& history = result.residual_history.emplace_back();
     for (int it = 0;; ++it) {
-      const double r_norm = evaluate(x, lambda, &K);
+      const double r_norm = evaluate(x, lambda, StiffnessKind::Tangent);  // exact where the model has it
       if (!std::isfinite(r_norm)) throw SolverFailure("static solve: the residual became non-finite (elements collapsed?)");
       if (reference == 0) reference = r_norm > 0 ? r_norm * settings.load_steps : 1.0;
       history.push_back(r_norm / reference);
@@ -69,11 +74,11 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
       dx.setZero();
       try {
         solver.solve(K, rhs, dx);
-      } catch (const SolverFailure&) {
+      } catch (const NotPositiveDefinite&) {
         // The exact tangent can be indefinite far from equilibrium (compressed or strongly
         // rotated elements); the model's positive semi-definite stiffness still points the way.
         K.set_zero();
-        model.add_stiffness(1.0, K);
+        model.add_stiffness(x, StiffnessKind::Model, 1.0, K);
         fixed.project(K);
         dx.setZero();
         solver.solve(K, rhs, dx);
@@ -84,7 +89,7 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
       double step = 1.0;
       for (int ls = 0; ls < 12; ++ls, step *= 0.5) {
         as_dofs(trial) = as_dofs(x) + step * dx;
-        const double trial_norm = evaluate(trial, lambda, nullptr);
+        const double trial_norm = evaluate(trial, lambda, StiffnessKind::None);
         if (std::isfinite(trial_norm) && trial_norm <= 10 * r_norm) break;
       }
       as_dofs(x) += step * dx;

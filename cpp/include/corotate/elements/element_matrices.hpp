@@ -1,13 +1,10 @@
-// What every element type precomputes once from its rest shape and material:
-// K_e = integral of B^T H B dV, the consistent mass, a lumped mass, the rest volume and
-// the shape-function gradients at the element centre (for the deformation gradient F).
+// The linear element matrices of a solid from its rest shape and material:
+// K_e = integral of B^T H B dV, the consistent and lumped mass, the rest volume and the
+// shape-function gradients at the element centre (for the deformation gradient F).
+// Used by the linear and co-rotational kernels (which need K_e) and by tests.
 #pragma once
 
-#include <sstream>
-
-#include "corotate/elements/hex20.hpp"
-#include "corotate/elements/hex8.hpp"
-#include "corotate/elements/tet4.hpp"
+#include "corotate/elements/element_geometry.hpp"
 #include "corotate/material.hpp"
 
 namespace corotate {
@@ -42,61 +39,34 @@ Eigen::Matrix<double, 6, 3 * N> strain_displacement(const Eigen::Matrix<double, 
   return B;
 }
 
-// Jacobian dX/dxi at a reference point, checked: an element whose Jacobian determinant is
-// not clearly positive is degenerate (zero volume) or inverted, and is rejected by index.
+// K_e = sum_q w_q B_q^T H B_q (exactly symmetric).
 template <class E>
-Mat3 checked_jacobian(const typename ElementMatrices<E>::NodeMatrix& X, const Vec3& xi, Index element) {
-  const Mat3 J = X * E::shape_gradient(xi);
-  const double extent = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).maxCoeff();
-  const double det = J.determinant();
-  if (!(det > 1e-10 * extent * extent * extent)) {
-    std::ostringstream msg;
-    msg << "element " << element << " (" << E::name << ") ";
-    if (std::abs(det) <= 1e-10 * extent * extent * extent)
-      msg << "has zero volume (degenerate: its nodes are coincident or coplanar)";
-    else
-      msg << "is inverted (negative Jacobian determinant " << det << "; check the node ordering)";
-    throw InvalidInput(msg.str());
+typename ElementMatrices<E>::Stiffness linear_stiffness(const QuadraturePoints<E>& points, const Material& material) {
+  const Eigen::Matrix<double, 6, 6> H = material.elasticity_matrix();
+  typename ElementMatrices<E>::Stiffness K = ElementMatrices<E>::Stiffness::Zero();
+  for (const auto& p : points) {
+    const auto B = strain_displacement<E::num_nodes>(p.G);
+    K.noalias() += p.w * (B.transpose() * H * B);
   }
-  return J;
+  return 0.5 * (K + K.transpose());
+}
+
+// dN/dX at the element centre (F there = x_e * this).
+template <class E>
+typename ElementMatrices<E>::Gradient centre_gradient(const ElementNodes<E>& X, Index element) {
+  const Vec3 centre = E::centre();
+  return E::shape_gradient(centre) * checked_jacobian<E>(X, centre, element).inverse();
 }
 
 template <class E>
-ElementMatrices<E> compute_element_matrices(const typename ElementMatrices<E>::NodeMatrix& X,
-                                            const Material& material, Index element) {
-  constexpr int N = E::num_nodes;
-  using Gradient = typename ElementMatrices<E>::Gradient;
+ElementMatrices<E> compute_element_matrices(const ElementNodes<E>& X, const Material& material, Index element) {
   ElementMatrices<E> out;
-  const Eigen::Matrix<double, 6, 6> H = material.elasticity_matrix();
-
-  out.stiffness.setZero();
-  for (size_t q = 0; q < E::stiffness_rule().points.size(); ++q) {
-    const Vec3& xi = E::stiffness_rule().points[q];
-    const Mat3 J = checked_jacobian<E>(X, xi, element);
-    const Gradient dN_dX = E::shape_gradient(xi) * J.inverse();
-    const auto B = strain_displacement<N>(dN_dX);
-    out.stiffness.noalias() += (E::stiffness_rule().weights[q] * J.determinant()) * (B.transpose() * H * B);
-  }
-  out.stiffness = 0.5 * (out.stiffness + out.stiffness.transpose()).eval();  // exact symmetry
-
-  out.mass.setZero();
-  out.volume = 0;
-  for (size_t q = 0; q < E::mass_rule().points.size(); ++q) {
-    const Vec3& xi = E::mass_rule().points[q];
-    const double dV = E::mass_rule().weights[q] * checked_jacobian<E>(X, xi, element).determinant();
-    const auto n = E::shape(xi);
-    out.mass.noalias() += (material.density * dV) * (n * n.transpose());
-    out.volume += dV;
-  }
-
-  // Row-sum lumping; where a row sum is not positive (corner nodes of Hex20) use HRZ:
-  // the consistent diagonal scaled so that the element keeps its total mass.
-  out.lumped_mass = out.mass.rowwise().sum();
-  if ((out.lumped_mass.array() <= 0).any())
-    out.lumped_mass = out.mass.diagonal() * (out.mass.sum() / out.mass.diagonal().sum());
-
-  const Vec3 centre = E::centre();
-  out.centre_gradient = E::shape_gradient(centre) * checked_jacobian<E>(X, centre, element).inverse();
+  out.stiffness = linear_stiffness<E>(quadrature_points<E>(X, element, 1.0), material);
+  const ElementMass<E::num_nodes> m = element_mass<E>(X, element, material.density, 1.0);
+  out.mass = m.consistent;
+  out.lumped_mass = m.lumped;
+  out.volume = m.consistent.sum() / material.density;
+  out.centre_gradient = centre_gradient<E>(X, element);
   return out;
 }
 

@@ -9,6 +9,8 @@ namespace corotate {
 
 struct Hex20 {
   static constexpr int num_nodes = 20;
+  static constexpr int dim = 3;  // a solid: reference coordinates span 3D
+  static constexpr int num_stiffness_points = 27;  // points of stiffness_rule()
   static constexpr const char* name = "hexahedron20";
   using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
   using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;

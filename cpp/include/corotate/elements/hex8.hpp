@@ -8,6 +8,8 @@ namespace corotate {
 
 struct Hex8 {
   static constexpr int num_nodes = 8;
+  static constexpr int dim = 3;  // a solid: reference coordinates span 3D
+  static constexpr int num_stiffness_points = 8;  // points of stiffness_rule()
   static constexpr const char* name = "hexahedron";
   using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
   using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;

@@ -8,6 +8,8 @@ namespace corotate {
 
 struct Tet4 {
   static constexpr int num_nodes = 4;
+  static constexpr int dim = 3;  // a solid: reference coordinates span 3D
+  static constexpr int num_stiffness_points = 1;  // points of stiffness_rule()
   static constexpr const char* name = "tetra";
   using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
   using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;  // row a = dN_a/dxi

@@ -17,6 +17,8 @@ namespace corotate {
 
 struct Tri3 {
   static constexpr int num_nodes = 3;
+  static constexpr int dim = 2;  // a membrane: reference coordinates span its rest plane
+  static constexpr int num_stiffness_points = 1;  // F is constant on the element
   static constexpr const char* name = "triangle";
   using NodeMatrix = Eigen::Matrix<double, 3, 3>;
   using Gradient = Eigen::Matrix<double, 3, 2>;

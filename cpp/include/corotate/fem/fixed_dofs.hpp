@@ -19,7 +19,8 @@ class FixedDofs {
   bool empty() const { return fixed_list_.empty(); }
   const std::vector<Index>& list() const { return fixed_list_; }
   void project(BlockSparseMatrix& A) const;
-  void project(Vec& b) const;
+  void project(Eigen::Ref<Vec> b) const;  // b: one entry per DOF
+  void project(Nodes& x) const { project(as_dofs(x)); }
 
  private:
   std::vector<Index> fixed_list_;   // DOF indices

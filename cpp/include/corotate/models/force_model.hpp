@@ -1,19 +1,63 @@
-// The interface every force model provides; integrators and solvers depend on this only.
+// The interface every force model provides; integrators, solvers and the static solver
+// depend on this only, never on a concrete model.
 //
-// A step calls update(x) once (per-element state such as rotations), then asks for forces
-// and stiffness at that state. Stiffness means K = -df/dx (for the co-rotational model the
-// usual approximation R K_e R^T that ignores the derivative of R).
+// One entry point, evaluate(x, what, out): everything it returns depends on its arguments
+// only, so there is no call order to remember. Models may cache things that only make the
+// next call faster (warm starts of the rotation extraction), never things that change its
+// answer.
+//
+// Stiffness kinds (K = -df/dx means the Hessian of the energy where there is one):
+//   Model      the stiffness implicit steps assemble: R K_e R^T for the co-rotational model
+//              (the paper's eq. 4, leaving out dR/dx), the exact Hessian for the
+//              hyperelastic and spring models (projected to PSD per element if asked).
+//   Tangent    the exact derivative -df/dx, for Newton solves that want quadratic
+//              convergence; equals Model except for co-rotated tets (rotation terms
+//              included). Where the exact tangent is undefined (an inverted co-rotated tet)
+//              the element falls back to its Model stiffness.
+//   Geometric  the initial-stress stiffness K_sigma of K_T = K_0 + K_u + K_sigma (paper
+//              eq. 6): blocks sum_q w_q (G_a^T S G_b) I_3, S the second Piola-Kirchhoff
+//              stress at x. Only models with a stress measure for it (hyperelastic);
+//              others throw InvalidInput.
 #pragma once
+
+#include <memory>
 
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
+
+class ExplicitTraits;
+
+enum class StiffnessKind { None, Model, Tangent, Geometric };
+
+// What evaluate() computes.
+struct Request {
+  bool energy = false;
+  bool forces = false;
+  StiffnessKind stiffness = StiffnessKind::None;
+  double stiffness_scale = 1.0;  // A += scale * K
+  // When set, the forces are the force linearised about x, evaluated at y = *forces_at:
+  //     f(x) - K(x) (y - x)   with K the Model stiffness.
+  // For the co-rotational model that is the force formula at y with the rotations of x, so
+  // an implicit step gets its -K v term without a matrix-vector product. Needs stiffness
+  // None or Model.
+  const Nodes* forces_at = nullptr;
+};
+
+// Where evaluate() puts it. Forces and stiffness are added to what is there.
+struct Results {
+  double energy = 0;                       // set (not added) when requested
+  Nodes* forces = nullptr;                 // 3 x n, += internal forces
+  BlockSparseMatrix* stiffness = nullptr;  // in pattern(), += scale * K
+};
 
 class ForceModel {
  public:
   virtual ~ForceModel() = default;
 
   virtual const char* name() const = 0;
+  // An independent copy (a simulation steps its own copy of a body's model).
+  virtual std::unique_ptr<ForceModel> clone() const = 0;
   virtual Index num_nodes() const = 0;
   virtual const Nodes& rest_positions() const = 0;
   // Sparsity of the stiffness (and mass) matrices; fixed for the life of the model.
@@ -23,47 +67,27 @@ class ForceModel {
   // True when forces are linear in x (a static solve is then a single linear solve).
   virtual bool is_linear() const = 0;
 
-  // Per-configuration state, e.g. element rotations. x: 3 x n current positions.
-  virtual void update(const Nodes& x) = 0;
-  // f += internal elastic forces at x (3 x n).
-  virtual void add_forces(const Nodes& x, Nodes& f) const = 0;
-  // A += scale * K, scattered into a matrix with pattern().
-  virtual void add_stiffness(double scale, BlockSparseMatrix& A) const = 0;
-  // A += scale * (the exact derivative -df/dx at x, the state of the last update), for
-  // Newton solves that want quadratic convergence. Defaults to add_stiffness, which is exact
-  // for every model but the co-rotational one (whose R K_e R^T leaves out dR/dx).
-  virtual void add_tangent_stiffness(const Nodes& x, double scale, BlockSparseMatrix& A) const {
-    add_stiffness(scale, A);
-  }
-  // f += f(x) - K (y - x): the force linearised about the state of the last update,
-  // evaluated at y (3 x n). For the FE models here this is the force formula at y with the
-  // rotations of x held fixed, so an implicit step gets its -K v term at no extra cost.
-  virtual void add_linearized_forces(const Nodes& y, Nodes& f) const = 0;
-  // add_linearized_forces and add_stiffness in one sweep over the elements.
-  virtual void add_linearized_forces_and_stiffness(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix& A) const {
-    add_linearized_forces(y, f);
-    add_stiffness(scale, A);
-  }
-  // Elastic energy at x (consistent with the forces of the model at its current state).
-  virtual double energy(const Nodes& x) const = 0;
+  // Energy, forces and/or stiffness at positions x (3 x n), as `what` asks. Throws
+  // InvalidInput for a request the model cannot answer (Geometric on a model without a
+  // stress measure, mismatched sizes).
+  virtual void evaluate(const Nodes& x, const Request& what, Results& out) = 0;
 
-  // --- What explicit integration needs; the defaults suit models without damping. ---
+  // What explicit integration asks beyond evaluate() (the model's own velocity damping and
+  // configuration-independent bounds); nullptr for models that have none.
+  virtual const ExplicitTraits* explicit_traits() const { return nullptr; }
+
+  // --- Conveniences over evaluate(). ---
+  double energy(const Nodes& x);
+  // f += internal forces at x.
+  void add_forces(const Nodes& x, Nodes& f);
+  // A += scale * K(x) of the given kind.
+  void add_stiffness(const Nodes& x, StiffnessKind kind, double scale, BlockSparseMatrix& A);
   // Point mass per node (n): the lumped mass matrix's diagonal.
-  virtual Vec lumped_masses() const;
-  // f += elastic forces at x plus the model's own damping forces at velocities v, updating
-  // per-configuration state as needed (one call per explicit substep).
-  virtual void add_explicit_forces(const Nodes& x, const Nodes& v, Nodes& f) {
-    update(x);
-    add_forces(x, f);
-  }
-  virtual bool has_damping() const { return false; }
-  // A += scale * C, C = -d f_damping / dv at the last update.
-  virtual void add_damping_matrix(double scale, BlockSparseMatrix& A) const {}
-  // A += scale * an upper bound of K (resp. C) valid in every configuration, for a stable
-  // step that never needs updating. Returns false when the model has none (hyperelastic
-  // solids stiffen without bound under stretch).
-  virtual bool add_stiffness_bound(double scale, BlockSparseMatrix& A) const { return false; }
-  virtual bool add_damping_bound(double scale, BlockSparseMatrix& A) const { return false; }
+  Vec lumped_masses() const;
+
+ protected:
+  // Throws InvalidInput when x, the force buffer or the matrix do not fit this model.
+  void check_evaluation(const Nodes& x, const Request& what, const Results& out) const;
 };
 
 }  // namespace corotate

@@ -11,7 +11,7 @@
 //            indefinite; an implicit integrator may want to clamp 1 - l0/l at zero).
 // Both eigenvalues of H_s (k and k (1 - l0/l)) are at most k in every configuration, so
 // the "spring Laplacian" L_k (x) I with blocks k I is an upper bound of K for every x:
-// add_stiffness_bound gives it, and the critical time step taken from it is safe for any
+// add_stiffness_bound (ExplicitTraits) gives it, and the critical time step taken from it is safe for any
 // configuration the system can reach (the conservative policy of the paper). The same
 // holds for the damping matrix C (blocks d u u^T) and d I.
 //
@@ -21,6 +21,7 @@
 #include <array>
 #include <vector>
 
+#include "corotate/models/explicit_traits.hpp"
 #include "corotate/models/force_model.hpp"
 
 namespace corotate {
@@ -32,7 +33,7 @@ struct Spring {
   double rest_length = 0;    // l0 [m], >= 0
 };
 
-class MassSpring : public ForceModel {
+class MassSpring final : public ForceModel, public ExplicitTraits {
  public:
   // rest: 3 x n node positions; springs; masses: n point masses [kg].
   // Throws InvalidInput naming the node or spring: mass <= 0 or not finite, node index out
@@ -41,34 +42,27 @@ class MassSpring : public ForceModel {
   MassSpring(const Nodes& rest, std::vector<Spring> springs, const Vec& masses);
 
   const char* name() const override { return "mass_spring"; }
+  std::unique_ptr<ForceModel> clone() const override { return std::make_unique<MassSpring>(*this); }
   Index num_nodes() const override { return rest_.cols(); }
   const Nodes& rest_positions() const override { return rest_; }
   const BlockSparseMatrix& pattern() const override { return pattern_; }
   // Diagonal blocks m_i I for both kinds (point masses have no consistent form).
   BlockSparseMatrix mass_matrix(bool lumped) const override;
   bool is_linear() const override { return false; }
-
-  // Remembers x for the stiffness and the linearised forces (forces do not need it).
-  void update(const Nodes& x) override { x_ = x; }
-  void add_forces(const Nodes& x, Nodes& f) const override;
-  void add_stiffness(double scale, BlockSparseMatrix& A) const override;
-  void add_linearized_forces(const Nodes& y, Nodes& f) const override;
-  double energy(const Nodes& x) const override;
+  // Model and Tangent stiffness are both the exact Hessian; no Geometric stiffness.
+  void evaluate(const Nodes& x, const Request& what, Results& out) override;
+  const ExplicitTraits* explicit_traits() const override { return this; }
 
   // f += damping forces of eq. (2) at positions x and velocities v (3 x n).
   void add_damping_forces(const Nodes& x, const Nodes& v, Nodes& f) const;
-  // f += elastic + damping forces in one sweep over the springs (what explicit steps use).
-  void add_forces_and_damping(const Nodes& x, const Nodes& v, Nodes& f) const;
-  // Explicit steps: forces need no update, so none is made (no copy of x per substep).
-  void add_explicit_forces(const Nodes& x, const Nodes& v, Nodes& f) override { add_forces_and_damping(x, v, f); }
-  Vec lumped_masses() const override { return masses_; }
+  // ExplicitTraits: elastic + damping forces in one sweep over the springs; C at x (blocks
+  // d u u^T); L_k (x) I and L_d (x) I, the configuration-independent upper bounds of K and
+  // C (see the note at the top of this file).
   bool has_damping() const override;
-  // A += scale * C with C = -df_damping/dv at the state of the last update (blocks d u u^T).
-  void add_damping_matrix(double scale, BlockSparseMatrix& A) const override;
-  // A += scale * (L_k (x) I), resp. (L_d (x) I): configuration-independent upper bounds of K
-  // and C (see the note at the top of this file).
-  bool add_stiffness_bound(double scale, BlockSparseMatrix& A) const override;
-  bool add_damping_bound(double scale, BlockSparseMatrix& A) const override;
+  void add_forces_and_damping(const Nodes& x, const Nodes& v, Nodes& f) const override;
+  void add_damping_matrix(const Nodes& x, double scale, BlockSparseMatrix& A) const override;
+  void add_stiffness_bound(double scale, BlockSparseMatrix& A) const override;
+  void add_damping_bound(double scale, BlockSparseMatrix& A) const override;
 
   const std::vector<Spring>& springs() const { return springs_; }
   const Vec& masses() const { return masses_; }
@@ -78,7 +72,7 @@ class MassSpring : public ForceModel {
   template <class BlockOf>
   void scatter(double scale, BlockSparseMatrix& A, BlockOf block_of) const;
 
-  Nodes rest_, x_;
+  Nodes rest_;
   std::vector<Spring> springs_;
   Vec masses_;
   BlockSparseMatrix pattern_;

@@ -1,26 +1,28 @@
-// Builds a force model by name for a mesh of one cell type.
+// Builds a force model by name for a mesh of one cell type, and lists the names (the one
+// source of the choices Python offers).
 #pragma once
 
 #include <memory>
 #include <string>
+#include <vector>
 
-#include "corotate/material.hpp"
+#include "corotate/fem/element_kernel.hpp"
 #include "corotate/models/force_model.hpp"
 
 namespace corotate {
 
-// Settings that only some models use.
-struct ModelOptions {
-  double thickness = 1.0;    // sheet thickness [m] of "triangle" cells (membranes); ignored for solids
-  bool project_psd = false;  // hyperelastic models: project each element stiffness to PSD (implicit solves)
-};
-
-// model: "linear", "corotational" (co-rotated linear FEM), or the hyperelastic models "stvk"
-// (St. Venant-Kirchhoff), "neohookean" (stable Neo-Hookean) and "corotated" (fixed
-// co-rotated); cell_type: "tetra", "hexahedron", "hexahedron20" (all models) or "triangle"
-// (membrane sheets, "stvk" only) (VTK/meshio names). rest: 3 x n; cells: m x k node indices.
+// model: "linear", "corotational" (co-rotated linear FEM, the paper's model), or a
+// hyperelastic law: "stvk" (St. Venant-Kirchhoff), "neohookean" (stable Neo-Hookean),
+// "corotated" (fixed co-rotated); cell_type: "tetra", "hexahedron", "hexahedron20" (every
+// model) or "triangle" (membrane sheets, "stvk" only) (VTK/meshio names).
+// rest: 3 x n; cells: m x k node indices. Throws InvalidInput naming what is wrong.
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
                                        const Connectivity& cells, const Material& material,
                                        const ModelOptions& options = ModelOptions());
+
+std::vector<std::string> model_names();      // every model name make_model accepts
+std::vector<std::string> cell_type_names();  // every cell type
+// The models available for a cell type (empty for an unknown one).
+std::vector<std::string> models_for_cell_type(const std::string& cell_type);
 
 }  // namespace corotate

@@ -68,6 +68,7 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
 
 enum class PreconditionerKind { None, Jacobi, BlockJacobi, ReferenceFactor, TwoLevel };
 
+const std::vector<std::string>& preconditioner_names();  // in the order of PreconditionerKind
 PreconditionerKind preconditioner_kind_from_name(const std::string& name);
 const char* preconditioner_name(PreconditionerKind kind);
 std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind);

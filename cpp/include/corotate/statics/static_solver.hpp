@@ -5,8 +5,8 @@
 // A Newton step that would make the residual non-finite or ten times larger is halved.
 // Displacement control: with `prescribed` given, the fixed DOFs move in the same load steps
 // from their positions on entry to the prescribed ones, so large prescribed displacements
-// are reached gradually too. For LinearFEM one iteration is exact. K is the model's
-// add_tangent_stiffness: exact for co-rotated tets and the hyperelastic models (quadratic
+// are reached gradually too. For the linear model one iteration is exact. K is the model's
+// Tangent stiffness: exact for co-rotated tets and the hyperelastic models (quadratic
 // convergence), R K_e R^T for co-rotated hexes (linear convergence); where the exact tangent
 // is indefinite the iteration falls back to the model's positive semi-definite stiffness.
 #pragma once

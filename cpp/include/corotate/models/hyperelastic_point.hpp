@@ -1,5 +1,5 @@
-// Element-level energy, forces and exact stiffness of a hyperelastic law, from the shape
-// function gradients at one quadrature point (shared by solid and membrane elements).
+// Energy, forces and exact stiffness that one quadrature point of a hyperelastic law adds
+// to an element, from the shape-function gradients there (solids and membranes alike).
 //
 // x_e: 3 x N node positions; G: N x D, row a = dN_a/dX (D = 3 for solids, 2 for a membrane's
 // rest plane); w: quadrature weight times the reference Jacobian (volume or area element).

@@ -1,0 +1,235 @@
+// One assembled force model for every element kernel (see element_kernel.hpp): it owns the
+// rest shape, the connectivity, the sparsity pattern with each element's block indices, the
+// element masses and the element loop, and gathers, scatters and assembles what the kernel
+// computes per element. Linear, co-rotational, hyperelastic and membrane models are all
+// AssembledModel<SomeKernel>.
+//
+// The pattern is built once from the connectivity and each element keeps the indices of its
+// 3x3 blocks in the value array, so assembly is a scatter-add with no search and no
+// allocation. Element stiffness matrices are symmetric: the upper blocks are added and
+// mirrored and the diagonal blocks symmetrised, so the assembled matrix is exactly symmetric.
+#pragma once
+
+#include <sstream>
+#include <vector>
+
+#include "corotate/fem/element_kernel.hpp"
+#include "corotate/fem/validate_mesh.hpp"
+#include "corotate/materials/psd_projection.hpp"
+#include "corotate/models/force_model.hpp"
+
+namespace corotate {
+
+template <class Kernel>
+class AssembledModel final : public ForceModel {
+ public:
+  using ElementType = typename Kernel::ElementType;
+  static constexpr int N = ElementType::num_nodes;
+  using NodeMatrix = typename KernelTypes<ElementType>::NodeMatrix;
+  using Stiffness = typename KernelTypes<ElementType>::Stiffness;
+  using NodeScalars = typename KernelTypes<ElementType>::NodeScalars;
+
+  // rest: 3 x n node positions; cells: m x N node indices (VTK ordering). Throws
+  // InvalidInput naming the bad node, cell, element or parameter.
+  AssembledModel(const Nodes& rest, const Connectivity& cells, const Material& material,
+                 const ModelOptions& options = ModelOptions());
+
+  const char* name() const override { return Kernel::name; }
+  std::unique_ptr<ForceModel> clone() const override { return std::make_unique<AssembledModel>(*this); }
+  Index num_nodes() const override { return rest_.cols(); }
+  Index num_elements() const { return cells_.rows(); }
+  const Nodes& rest_positions() const override { return rest_; }
+  const Connectivity& cells() const { return cells_; }
+  const BlockSparseMatrix& pattern() const override { return pattern_; }
+  BlockSparseMatrix mass_matrix(bool lumped) const override;
+  bool is_linear() const override { return Kernel::constant_stiffness; }
+  void evaluate(const Nodes& x, const Request& what, Results& out) override;
+
+ private:
+  static const Material& validated(const Material& m) {
+    m.validate();
+    return m;
+  }
+  void gather(const Nodes& x, Index e, NodeMatrix& xe) const {
+    for (int a = 0; a < N; ++a) xe.col(a) = x.col(cells_(e, a));
+  }
+  void scatter(Index e, const NodeMatrix& fe, Nodes& f) const {
+    for (int a = 0; a < N; ++a) f.col(cells_(e, a)) += fe.col(a);
+  }
+  void scatter(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const;
+  void model_stiffness(const typename Kernel::Element& el, const typename Kernel::Frame& frame, const NodeMatrix& xe,
+                       Stiffness& Ke) const {
+    kernel_.stiffness(el, frame, xe, Ke);
+    if (project_psd_) project_psd<3 * N>(Ke);
+  }
+  void evaluate_constant(const Nodes& x, const Request& what, Results& out);
+
+  Kernel kernel_;
+  Nodes rest_;
+  Connectivity cells_;
+  bool project_psd_;
+  BlockSparseMatrix pattern_;
+  std::vector<int> block_ids_;  // N * N per element: global block of element block (a, b)
+  std::vector<typename Kernel::Element> elements_;  // empty for constant-stiffness kernels
+  std::vector<typename Kernel::Cache> caches_;
+  std::vector<ElementMass<N>> masses_;
+  BlockSparseMatrix constant_stiffness_;  // K, assembled once, for constant-stiffness kernels
+  Vec displacement_, product_;            // work vectors of the constant-stiffness path
+};
+
+template <class Kernel>
+AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& cells, const Material& material,
+                                       const ModelOptions& options)
+    : kernel_(validated(material), options), rest_(rest), cells_(cells), project_psd_(options.project_psd) {
+  validate_mesh(rest, cells, N, ElementType::name);
+  if constexpr (ElementType::dim == 2) {
+    if (!std::isfinite(options.thickness) || options.thickness <= 0) {
+      std::ostringstream msg;
+      msg << "thickness of the " << ElementType::name << " sheet must be positive and finite, got " << options.thickness;
+      throw InvalidInput(msg.str());
+    }
+  }
+  pattern_ = BlockSparseMatrix::from_cells(rest.cols(), cells);
+  const Index m = cells.rows();
+  block_ids_.resize(m * N * N);
+  elements_.reserve(m);
+  masses_.reserve(m);
+  NodeMatrix X;
+  for (Index e = 0; e < m; ++e) {
+    gather(rest, e, X);
+    elements_.push_back(kernel_.precompute(X, e));
+    masses_.push_back(element_mass<ElementType>(X, e, material.density, options.thickness));
+    for (int a = 0; a < N; ++a)
+      for (int b = 0; b < N; ++b) block_ids_[(e * N + a) * N + b] = pattern_.block_index(cells(e, a), cells(e, b));
+  }
+  if constexpr (Kernel::constant_stiffness) {
+    // K never changes: assemble it now; forces and energy follow from it (f = -K (x - X)).
+    constant_stiffness_ = pattern_;
+    constant_stiffness_.set_zero();
+    Stiffness Ke;
+    for (Index e = 0; e < m; ++e) {
+      gather(rest, e, X);
+      model_stiffness(elements_[e], typename Kernel::Frame{}, X, Ke);
+      scatter(e, 1.0, Ke, constant_stiffness_);
+    }
+    std::vector<typename Kernel::Element>().swap(elements_);  // K_e is no longer needed
+    displacement_.resize(3 * rest.cols());
+    product_.resize(3 * rest.cols());
+  } else {
+    caches_.resize(m);
+  }
+}
+
+template <class Kernel>
+BlockSparseMatrix AssembledModel<Kernel>::mass_matrix(bool lumped) const {
+  BlockSparseMatrix M = pattern_;
+  M.set_zero();
+  for (Index e = 0; e < num_elements(); ++e) {
+    const int* ids = block_ids_.data() + e * N * N;
+    for (int a = 0; a < N; ++a)
+      for (int b = 0; b < N; ++b) {
+        if (lumped && a != b) continue;
+        const double value = lumped ? masses_[e].lumped(a) : masses_[e].consistent(a, b);
+        M.block(ids[a * N + b]).diagonal().array() += value;
+      }
+  }
+  return M;
+}
+
+template <class Kernel>
+void AssembledModel<Kernel>::scatter(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const {
+  const int* ids = block_ids_.data() + e * N * N;
+  for (int a = 0; a < N; ++a) {
+    Mat3 diagonal = (0.5 * scale) * (Ke.template block<3, 3>(3 * a, 3 * a) + Ke.template block<3, 3>(3 * a, 3 * a).transpose());
+    A.block(ids[a * N + a]) += diagonal;
+    for (int b = a + 1; b < N; ++b) {
+      const Mat3 block = scale * Ke.template block<3, 3>(3 * a, 3 * b);
+      A.block(ids[a * N + b]) += block;
+      A.block(ids[b * N + a]) += block.transpose();
+    }
+  }
+}
+
+template <class Kernel>
+void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Results& out) {
+  check_evaluation(x, what, out);
+  if constexpr (Kernel::constant_stiffness) {
+    evaluate_constant(x, what, out);
+  } else {
+    const StiffnessKind kind = out.stiffness ? what.stiffness : StiffnessKind::None;
+    const bool linearize = what.forces && what.forces_at;
+    if (kind == StiffnessKind::Geometric && !Kernel::has_geometric_stiffness)
+      throw InvalidInput(std::string("the '") + Kernel::name +
+                         "' model has no separate geometric stiffness (the hyperelastic models have one)");
+    double energy = 0;
+    NodeMatrix xe, ye, fe;
+    Stiffness Ke;
+    NodeScalars k;
+    for (Index e = 0; e < num_elements(); ++e) {
+      const auto& el = elements_[e];
+      gather(x, e, xe);
+      const typename Kernel::Frame frame = kernel_.frame(el, xe, caches_[e]);
+      if (what.energy) energy += kernel_.energy(el, frame, xe);
+      bool have_model_stiffness = false;
+      if (kind == StiffnessKind::Model) {
+        model_stiffness(el, frame, xe, Ke);
+        have_model_stiffness = true;
+      } else if (kind == StiffnessKind::Tangent) {
+        if (!kernel_.tangent(el, frame, xe, Ke)) model_stiffness(el, frame, xe, Ke), have_model_stiffness = true;
+      } else if (kind == StiffnessKind::Geometric) {
+        if constexpr (Kernel::has_geometric_stiffness) {
+          kernel_.geometric_stiffness(el, xe, k, e);
+          const int* ids = block_ids_.data() + e * N * N;
+          for (int a = 0; a < N; ++a)
+            for (int b = 0; b < N; ++b) out.stiffness->block(ids[a * N + b]).diagonal().array() += what.stiffness_scale * k(a, b);
+        }
+      }
+      if (what.forces) {
+        if (!linearize) {
+          kernel_.forces(el, frame, xe, fe);
+        } else {
+          gather(*what.forces_at, e, ye);
+          if constexpr (Kernel::forces_linear_given_frame) {
+            kernel_.forces(el, frame, ye, fe);
+          } else {
+            kernel_.forces(el, frame, xe, fe);
+            if (!have_model_stiffness) model_stiffness(el, frame, xe, Ke), have_model_stiffness = true;
+            ye -= xe;
+            Eigen::Map<Eigen::Matrix<double, 3 * N, 1>>(fe.data()).noalias() -=
+                Ke * Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(ye.data());
+          }
+        }
+        scatter(e, fe, *out.forces);
+      }
+      if (kind == StiffnessKind::Model || kind == StiffnessKind::Tangent) scatter(e, what.stiffness_scale, Ke, *out.stiffness);
+    }
+    if (what.energy) out.energy = energy;
+  }
+}
+
+template <class Kernel>
+void AssembledModel<Kernel>::evaluate_constant(const Nodes& x, const Request& what, Results& out) {
+  if (what.stiffness == StiffnessKind::Geometric && out.stiffness)
+    throw InvalidInput(std::string("the '") + Kernel::name + "' model has no separate geometric stiffness");
+  if (what.energy || what.forces) {
+    // The force is linear, so its linearisation about x evaluated at y is the force at y.
+    const Nodes& at = (what.forces && what.forces_at) ? *what.forces_at : x;
+    displacement_ = as_dofs(at) - as_dofs(rest_);
+    constant_stiffness_.multiply(displacement_, product_);
+    if (what.forces) as_dofs(*out.forces) -= product_;
+    if (what.energy) {
+      if (&at != &x) {
+        displacement_ = as_dofs(x) - as_dofs(rest_);
+        constant_stiffness_.multiply(displacement_, product_);
+      }
+      out.energy = 0.5 * displacement_.dot(product_);
+    }
+  }
+  if (out.stiffness && what.stiffness != StiffnessKind::None) {
+    auto& dst = out.stiffness->values();
+    const auto& src = constant_stiffness_.values();
+    for (size_t v = 0; v < dst.size(); ++v) dst[v] += what.stiffness_scale * src[v];
+  }
+}
+
+}  // namespace corotate

@@ -1,0 +1,67 @@
+// The element-kernel concept: what a force model computes per element, and nothing else.
+// AssembledModel<Kernel> (assembled_model.hpp) owns the mesh, the sparsity pattern, the
+// gather/scatter, the mass and the element loop; a kernel knows nothing of assembly.
+//
+// A kernel is a class with
+//   using ElementType = Tet4 | Hex8 | Hex20 | Tri3 | ...;     (elements/; N = num_nodes)
+//   static constexpr const char* name;                        model name ("corotational", ...)
+//   static constexpr bool constant_stiffness;                 K is the same at every x (linear
+//                                                             FEM): the assembled model builds
+//                                                             K once and derives forces and
+//                                                             energy from it; then only the
+//                                                             constructor, precompute and
+//                                                             stiffness below are needed
+//   static constexpr bool forces_linear_given_frame;          forces(frame(x), y) equals the
+//                                                             linearisation f(x) - K(x)(y - x)
+//                                                             (co-rotational: R held fixed)
+//   static constexpr bool has_geometric_stiffness;
+//   struct Element;  struct Frame;  struct Cache;             per-element data computed once;
+//                                                             per-configuration quantities
+//                                                             (a rotation); per-element state
+//                                                             that only speeds up the next
+//                                                             frame() (a warm start)
+//   Kernel(const Material&, const ModelOptions&);             validates what it uses
+//   Element precompute(const NodeMatrix& X, Index e) const;   from the rest shape X (3 x N);
+//                                                             throws InvalidInput naming e
+//   Frame frame(const Element&, const NodeMatrix& x, Cache&) const;
+//   double energy(const Element&, const Frame&, const NodeMatrix& x) const;
+//   void forces(const Element&, const Frame&, const NodeMatrix& x, NodeMatrix& f) const;
+//                                                             f = the element's nodal forces
+//   void stiffness(const Element&, const Frame&, const NodeMatrix& x, Stiffness& K) const;
+//                                                             K = the Model stiffness (3N x 3N,
+//                                                             symmetric; see force_model.hpp)
+//   bool tangent(const Element&, const Frame&, const NodeMatrix& x, Stiffness& K) const;
+//                                                             exact -df/dx; false where it is
+//                                                             undefined (the Model one is used)
+//   void geometric_stiffness(const Element&, const NodeMatrix& x, NodeScalars& k, Index e) const;
+//                                                             (if has_geometric_stiffness)
+//                                                             k_ab of the blocks k_ab I_3
+// with NodeMatrix = Eigen::Matrix<double, 3, N>, Stiffness = 3N x 3N, NodeScalars = N x N.
+// Kernels are stateless apart from Cache, so one kernel object serves every element.
+#pragma once
+
+#include "corotate/elements/element_geometry.hpp"
+#include "corotate/material.hpp"
+
+namespace corotate {
+
+// Settings that only some models use.
+struct ModelOptions {
+  double thickness = 1.0;    // sheet thickness [m] of membrane (triangle) elements; solids ignore it
+  bool project_psd = false;  // project each element stiffness onto the PSD cone (implicit solves)
+};
+
+// Element-sized types of a kernel.
+template <class E>
+struct KernelTypes {
+  static constexpr int N = E::num_nodes;
+  using NodeMatrix = Eigen::Matrix<double, 3, N>;
+  using Stiffness = Eigen::Matrix<double, 3 * N, 3 * N>;
+  using NodeScalars = Eigen::Matrix<double, N, N>;
+};
+
+// For kernels without per-configuration quantities or caches.
+struct NoFrame {};
+struct NoCache {};
+
+}  // namespace corotate

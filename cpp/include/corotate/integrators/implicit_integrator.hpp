@@ -1,0 +1,47 @@
+// What the implicit integrators share: the mass matrix, the system matrix A in the model's
+// pattern, work vectors, and the warm start dv of the linear solve (part of the state a
+// failed step restores).
+//
+// "linearized" (linearized_implicit_euler.cpp): one linear solve per step (Baraff & Witkin
+// 1998). Backward Euler asks for
+//     M dv = dt (f(x + dx) - C (v + dv) + f_ext),   dx = dt (v + dv).
+// Linearising the elastic force at the start of the step, f(x + dx) ~ f(x) - K dx, with K
+// the model's stiffness (for the co-rotational model R K_e R^T at the current rotations):
+//     (M + dt C + dt^2 K) dv = dt (f(x) + f_ext - C v) - dt^2 K v.
+// With Rayleigh damping C = alpha M + beta K the system matrix is
+//     A = (1 + dt alpha) M + (dt^2 + dt beta) K,
+// and the right-hand side is b = dt (f(x) + f_ext) - (A - M) v. Then v <- v + dv and
+// x <- x + dt v (the new velocity: the step is implicit in both).
+//
+// "newton" (newton_implicit_euler.cpp): the step solved to convergence. Backward Euler is
+// the minimiser of the incremental potential
+//     Phi(x) = 1/(2 dt^2) |x - x_n - dt v_n|_M^2 + alpha/(2 dt) |x - x_n|_M^2 + E(x) - f_ext.x,
+// whose gradient is M (x - x_n - dt v_n)/dt^2 + alpha M (x - x_n)/dt - f(x) - f_ext and whose
+// Hessian is (1/dt^2 + alpha/dt) M + K(x). Each Newton iteration solves Hessian dx = -gradient
+// with the exact tangent (the model's PSD stiffness where the tangent is not positive
+// definite) and backtracks along dx until Phi decreases enough (Armijo). It stops when
+// |gradient| <= newton_tolerance * max(|f_ext| + |M v_n| / dt, |f(x_n)|) on the free DOFs;
+// then v = (x - x_n) / dt. Stiffness-proportional damping is not a potential and is refused.
+// Fixed DOFs keep dv = 0 (their velocity) by projection (see FixedDofs).
+#pragma once
+
+#include "corotate/integrators/integrator.hpp"
+
+namespace corotate {
+
+class ImplicitIntegrator : public Integrator {
+ public:
+  using Integrator::Integrator;
+  void attach(ForceModel& model) override;
+  const BlockSparseMatrix& mass() const override { return mass_; }
+  void save_state() override { saved_dv_ = dv_; }
+  void restore_state() override { dv_ = saved_dv_; }
+
+ protected:
+  BlockSparseMatrix mass_;    // M in the model's pattern
+  BlockSparseMatrix system_;  // A, reassembled every step
+  Nodes force_, y_;           // forces; a second point (linearisation point, Newton trial)
+  Vec rhs_, dv_, work_, saved_dv_;
+};
+
+}  // namespace corotate

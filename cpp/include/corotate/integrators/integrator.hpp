@@ -1,0 +1,111 @@
+// The integrator seam: Simulation owns the state and calls an Integrator to advance it.
+// Four integrators, each in its own file under src/integrators/ and registered in
+// integrator.cpp: "linearized" and "newton" implicit Euler (implicit_integrator.hpp),
+// "symplectic_euler" and "verlet" (explicit_integrator.hpp).
+//
+// Fixed DOFs mean the same for all of them: a step does not change their velocity, so they
+// keep the velocity they have (zero unless set) and move with it; writing positions and
+// velocities between steps prescribes their motion.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "corotate/fem/fixed_dofs.hpp"
+#include "corotate/models/force_model.hpp"
+#include "corotate/solvers/linear_solver.hpp"
+
+namespace corotate {
+
+enum class IntegratorKind { Linearized, Newton, SymplecticEuler, Verlet };
+enum class TimeStepPolicy { Fixed, Online };
+enum class OnUnstable { Substep, Raise, Allow };
+
+// Settings of every integrator; each reads what applies to it.
+struct IntegratorSettings {
+  IntegratorKind kind = IntegratorKind::Linearized;
+  double time_step = 0.01;         // dt [s]; explicit integrators: 0 = the stable step
+  double mass_damping = 0.0;       // alpha [1/s]: damping force -alpha M v (Rayleigh alpha)
+  double stiffness_damping = 0.0;  // beta [s]: damping force -beta K v (Rayleigh beta); linearized only
+  bool lumped_mass = false;        // implicit integrators (explicit ones always lump)
+  int newton_iterations = 20;      // newton: iterations per step at most
+  double newton_tolerance = 1e-6;  // newton: relative gradient norm at which it stops
+  TimeStepPolicy policy = TimeStepPolicy::Fixed;   // explicit: how dt_crit is estimated
+  OnUnstable on_unstable = OnUnstable::Substep;    // explicit: what a dt above the stable step does
+  double safety = 0.9;             // explicit: fraction of dt_crit a substep may use, in (0, 1]
+  // Throws InvalidInput naming the parameter.
+  void validate() const;
+};
+
+const std::vector<std::string>& integrator_names();  // "linearized", "newton", "symplectic_euler", "verlet"
+IntegratorKind integrator_from_name(const std::string& name);
+const char* integrator_name(IntegratorKind kind);
+bool is_explicit(IntegratorKind kind);
+const std::vector<std::string>& time_step_policy_names();  // "fixed", "online"
+TimeStepPolicy time_step_policy_from_name(const std::string& name);
+const char* time_step_policy_name(TimeStepPolicy policy);
+const std::vector<std::string>& on_unstable_names();  // "substep", "raise", "allow"
+OnUnstable on_unstable_from_name(const std::string& name);
+const char* on_unstable_name(OnUnstable mode);
+
+// What one step sees: the model, the state at its start, the loads, the fixed DOFs and the
+// linear solver (implicit integrators).
+struct StepInput {
+  ForceModel& model;
+  const Nodes& x;     // 3 x n positions
+  const Nodes& v;     // 3 x n velocities
+  const Nodes& load;  // 3 x n external forces, gravity included
+  const FixedDofs& fixed;
+  LinearSolver& solver;
+};
+
+struct StepStats {
+  double dt = 0;                         // simulated time the step advanced [s]
+  SolveStats solve;                      // of the last linear solve (iterations: summed over Newton)
+  int newton_iterations = 0;             // 0 for the linearised step
+  std::vector<double> newton_residuals;  // relative gradient norm before each Newton iteration
+  int substeps = 1;                      // explicit: substeps taken, and their size [s]
+  double substep = 0;
+  double assembly_ms = 0, solve_ms = 0, estimate_ms = 0, total_ms = 0;
+  int estimates = 0;                     // explicit: stability estimates made in this step
+};
+
+class ExplicitIntegrator;
+
+class Integrator {
+ public:
+  explicit Integrator(const IntegratorSettings& settings) : settings_(settings) { settings.validate(); }
+  virtual ~Integrator() = default;
+  const IntegratorSettings& settings() const { return settings_; }
+  const char* name() const { return integrator_name(settings_.kind); }
+
+  // Called once with the model it will step (mass matrix, work buffers).
+  virtual void attach(ForceModel& model) = 0;
+  // The mass matrix the integrator uses, in the model's pattern (gravity loads are M g).
+  virtual const BlockSparseMatrix& mass() const = 0;
+  // The fixed set changed.
+  virtual void constraints_changed(const FixedDofs&) {}
+  // Called at the start of every Simulation::step(n) call: the user may have written into
+  // positions, velocities or loads since the last step.
+  virtual void begin(const StepInput&) {}
+  // Advance in.x, in.v by one step into x_new, v_new (3 x n each), leaving everything the
+  // caller sees untouched, so the result can be checked before it is committed.
+  virtual StepStats step(const StepInput& in, Nodes& x_new, Nodes& v_new) = 0;
+  // State that carries from step to step (warm starts, stability estimates): saved before a
+  // Simulation::step call and restored when it fails, so a failed call changes nothing.
+  virtual void save_state() {}
+  virtual void restore_state() {}
+  // What to tell a user whose step st produced non-finite values.
+  virtual std::string non_finite_hint(const StepStats&) const { return "Is the time step too large or the mesh inverted?"; }
+  // The explicit integrators' stability interface; nullptr for implicit ones.
+  virtual ExplicitIntegrator* as_explicit() { return nullptr; }
+
+ private:
+  IntegratorSettings settings_;
+};
+
+// The integrator settings.kind names; throws InvalidInput for invalid settings.
+std::unique_ptr<Integrator> make_integrator(const IntegratorSettings& settings);
+
+}  // namespace corotate

@@ -1,0 +1,17 @@
+#include "corotate/integrators/implicit_integrator.hpp"
+
+namespace corotate {
+
+void ImplicitIntegrator::attach(ForceModel& model) {
+  mass_ = model.mass_matrix(settings().lumped_mass);
+  system_ = model.pattern();
+  const Index n = model.num_nodes();
+  force_.setZero(3, n);
+  y_.setZero(3, n);
+  rhs_.setZero(3 * n);
+  dv_.setZero(3 * n);
+  work_.setZero(3 * n);
+  saved_dv_.setZero(3 * n);
+}
+
+}  // namespace corotate

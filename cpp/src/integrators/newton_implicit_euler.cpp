@@ -1,0 +1,158 @@
+// The Newton implicit Euler step (see implicit_integrator.hpp): the incremental potential
+// minimised by Newton iterations with a backtracking line search.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "corotate/integrators/implicit_integrator.hpp"
+
+namespace corotate {
+
+namespace {
+
+class NewtonImplicitEuler final : public ImplicitIntegrator {
+ public:
+  using ImplicitIntegrator::ImplicitIntegrator;
+
+  void attach(ForceModel& model) override {
+    ImplicitIntegrator::attach(model);
+    target_.setZero(3, model.num_nodes());
+    x_.setZero(3, model.num_nodes());
+  }
+
+  StepStats step(const StepInput& in, Nodes& x_new, Nodes& v_new) override;
+
+ private:
+  // Phi(y) (see implicit_integrator.hpp).
+  double incremental_potential(const StepInput& in, const Nodes& y);
+  // -gradient of Phi at y into rhs_ (free DOFs), and the Hessian with the stiffness kind
+  // into system_ (unprojected) when kind is not None.
+  void gradient_and_hessian(const StepInput& in, const Nodes& y, StiffnessKind kind);
+
+  Nodes target_;  // x_n + dt v_n
+  Nodes x_;       // the current iterate
+};
+
+double NewtonImplicitEuler::incremental_potential(const StepInput& in, const Nodes& y) {
+  const double dt = settings().time_step;
+  double phi = in.model.energy(y) - as_dofs(in.load).dot(as_dofs(y));
+  rhs_ = as_dofs(y) - as_dofs(target_);
+  mass_.multiply(rhs_, work_);
+  phi += 0.5 / (dt * dt) * rhs_.dot(work_);
+  if (settings().mass_damping != 0) {
+    rhs_ = as_dofs(y) - as_dofs(in.x);
+    mass_.multiply(rhs_, work_);
+    phi += 0.5 * settings().mass_damping / dt * rhs_.dot(work_);
+  }
+  return phi;
+}
+
+void NewtonImplicitEuler::gradient_and_hessian(const StepInput& in, const Nodes& y, StiffnessKind kind) {
+  const double dt = settings().time_step, alpha = settings().mass_damping;
+  // -g = f(y) + f_ext - M (y - target)/dt^2 - alpha M (y - x_n)/dt, kept in force_.
+  force_ = in.load;
+  system_.assign_scaled(1 / (dt * dt) + alpha / dt, mass_);
+  Request what;
+  what.forces = true;
+  what.stiffness = kind;
+  Results out;
+  out.forces = &force_;
+  out.stiffness = &system_;
+  in.model.evaluate(y, what, out);
+  rhs_ = as_dofs(y) - as_dofs(target_);
+  mass_.multiply(rhs_, work_);
+  as_dofs(force_) -= work_ / (dt * dt);
+  if (alpha != 0) {
+    rhs_ = as_dofs(y) - as_dofs(in.x);
+    mass_.multiply(rhs_, work_);
+    as_dofs(force_) -= (alpha / dt) * work_;
+  }
+  rhs_ = as_dofs(force_);
+  in.fixed.project(rhs_);
+}
+
+StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_new) {
+  using clock = std::chrono::steady_clock;
+  const auto t_start = clock::now();
+  StepStats stats;
+  const double dt = settings().time_step;
+  stats.dt = dt;
+
+  // Start from the inertial prediction x_n + dt v_n; fixed DOFs stay there (they keep v).
+  target_ = in.x + dt * in.v;
+  x_ = target_;
+  // Scale of the gradient for the tolerance: the loads, the momentum per step and the
+  // elastic forces at the start of the step, whichever is largest.
+  mass_.multiply(as_dofs(in.v), work_);
+  Vec reference = as_dofs(in.load);
+  in.fixed.project(reference);
+  in.fixed.project(work_);
+  double scale = reference.norm() + work_.norm() / dt;
+  force_.setZero();
+  in.model.add_forces(in.x, force_);
+  reference = as_dofs(force_);
+  in.fixed.project(reference);
+  scale = std::max({scale, reference.norm(), 1e-300});
+
+  double phi = incremental_potential(in, x_);
+  for (int it = 0;; ++it) {
+    gradient_and_hessian(in, x_, StiffnessKind::Tangent);  // exact where the model has it
+    const double g_norm = rhs_.norm();
+    if (!std::isfinite(g_norm)) throw SolverFailure("Newton step: the gradient became non-finite");
+    stats.newton_residuals.push_back(g_norm / scale);
+    if (g_norm <= settings().newton_tolerance * scale) break;
+    if (it == settings().newton_iterations) {
+      std::ostringstream msg;
+      msg << "Newton step did not converge in " << settings().newton_iterations << " iterations; relative gradient norms:";
+      for (double r : stats.newton_residuals) msg << ' ' << r;
+      msg << " (a smaller time step, or more iterations, may help)";
+      throw SolverFailure(msg.str());
+    }
+    in.fixed.project(system_);
+    dv_.setZero();  // the Newton increment; no warm start across iterations
+    SolveStats solve;
+    try {
+      solve = in.solver.solve(system_, rhs_, dv_);
+    } catch (const NotPositiveDefinite&) {
+      // An indefinite exact tangent: the model's positive semi-definite stiffness instead.
+      gradient_and_hessian(in, x_, StiffnessKind::Model);
+      in.fixed.project(system_);
+      dv_.setZero();
+      solve = in.solver.solve(system_, rhs_, dv_);
+    }
+    stats.solve.iterations += solve.iterations;
+    stats.solve.relative_residual = solve.relative_residual;
+    stats.solve.converged = solve.converged;
+    in.fixed.project(dv_);
+
+    // Backtracking line search on Phi (Armijo, sufficient decrease 1e-4). Near the solution
+    // the decrease a step promises falls below the round-off of Phi itself; a slack of
+    // 1e-12 |Phi| lets those last, quadratically converging steps through.
+    const double slope = -rhs_.dot(dv_);  // g . dx
+    const double slack = 1e-12 * std::abs(phi);
+    double step = 1.0, phi_trial = phi;
+    for (int ls = 0; ls < 30; ++ls, step *= 0.5) {
+      as_dofs(y_) = as_dofs(x_) + step * dv_;
+      phi_trial = incremental_potential(in, y_);
+      if (std::isfinite(phi_trial) && (slope >= 0 || phi_trial <= phi + 1e-4 * step * slope + slack)) break;
+    }
+    if (!std::isfinite(phi_trial)) throw SolverFailure("Newton step: no finite point along the Newton direction");
+    x_ = y_;
+    phi = phi_trial;
+    ++stats.newton_iterations;
+  }
+  x_new = x_;
+  as_dofs(v_new) = (as_dofs(x_new) - as_dofs(in.x)) / dt;
+  stats.total_ms = std::chrono::duration<double, std::milli>(clock::now() - t_start).count();
+  stats.solve_ms = stats.total_ms;
+  return stats;
+}
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_newton_implicit_euler(const IntegratorSettings& settings) {
+  return std::make_unique<NewtonImplicitEuler>(settings);
+}
+
+}  // namespace corotate
