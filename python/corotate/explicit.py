@@ -4,7 +4,7 @@ critical time step from the highest eigenfrequency, and sub-stepping."""
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -62,8 +62,8 @@ class ExplicitSimulation(DrivenBody):
         body: MassSpringBody | Body,
         dt: float | None = None,
         integrator: ExplicitIntegratorName = "verlet",
-        on_unstable: OnUnstableName = _DEFAULTS.on_unstable,
-        policy: TimeStepPolicyName = _DEFAULTS.policy,
+        on_unstable: OnUnstableName = cast(OnUnstableName, _DEFAULTS.on_unstable),
+        policy: TimeStepPolicyName = cast(TimeStepPolicyName, _DEFAULTS.policy),
         safety: float = _DEFAULTS.safety,
         gravity: ArrayLike = (0.0, 0.0, 0.0),
         mass_damping: float = _DEFAULTS.mass_damping,
@@ -82,7 +82,7 @@ class ExplicitSimulation(DrivenBody):
         check_choice(integrator, EXPLICIT_INTEGRATORS, "integrator")
         if isinstance(body, MassSpringBody):
             self._rest = body.nodes
-            model = body._model
+            model: _core.ForceModel = body._model
         else:  # a finite-element body, stepped with its lumped mass
             self._rest = body.mesh.points
             model = body._force_model

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .choices import ExplicitIntegratorName
 from .body import Body
 from .explicit import ExplicitSimulation
 from .mass_spring import MassSpringBody
@@ -49,7 +50,10 @@ def _run(
 
 
 def hanging_cloth(
-    out: str | os.PathLike[str] = "corotate-scenes", n: int = 32, frames: int = 240, integrator: str = "verlet"
+    out: str | os.PathLike[str] = "corotate-scenes",
+    n: int = 32,
+    frames: int = 240,
+    integrator: ExplicitIntegratorName = "verlet",
 ) -> ExplicitSimulation:
     """A 1 x 1 m cloth (n x n particles, E = 0.5 MPa, 1 mm thick, 200 kg/m^3), horizontal at
     the start, pinned at two corners of one edge, falls, swings and, with velocity damping
@@ -66,7 +70,7 @@ def dropped_cube(
     cells: int = 6,
     frames: int = 240,
     speed: float = 1.0,
-    integrator: str = "verlet",
+    integrator: ExplicitIntegratorName = "verlet",
 ) -> ExplicitSimulation:
     """A soft 0.5 m cube lattice (E = 40 kPa, 1000 kg/m^3) lands on a base, squashes by a
     fifth and settles about 7 % lower (velocity damping 1 1/s; much softer lattices collapse
@@ -101,7 +105,7 @@ def stvk_sheet(
     out: str | os.PathLike[str] = "corotate-scenes",
     cells: int = 16,
     frames: int = 240,
-    integrator: str = "symplectic_euler",
+    integrator: ExplicitIntegratorName = "symplectic_euler",
 ) -> ExplicitSimulation:
     """The explainer's demo: a 2D St. Venant-Kirchhoff sheet of linear triangles, 1 x 1 m in
     the vertical x-z plane (E = 50 kPa, nu = 0.3, 1000 kg/m^3, 1 cm thick), pinned at its

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import corotate._core as _core
 
@@ -29,7 +30,7 @@ class PCG:
 
     max_iterations: int = _DEFAULTS.max_iterations
     tolerance: float = _DEFAULTS.tolerance
-    preconditioner: PreconditionerName = _DEFAULTS.preconditioner
+    preconditioner: PreconditionerName = cast(PreconditionerName, _DEFAULTS.preconditioner)
     warm_start: bool = _DEFAULTS.warm_start
 
     def _settings(self) -> _core.PCGSettings:

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .choices import ModelName
 from .body import Body
 from .material import Material
 from .mesh import box
@@ -28,7 +29,7 @@ from .solvers import Direct
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-MODELS = ("linear", "corotational", "stvk")
+MODELS: tuple[ModelName, ...] = ("linear", "corotational", "stvk")
 TOTAL_FORCE = 1.3e10  # N, in -z
 
 

@@ -6,8 +6,9 @@
 //
 // The pattern is built once from the connectivity and each element keeps the indices of its
 // 3x3 blocks in the value array, so assembly is a scatter-add with no search and no
-// allocation. Element stiffness matrices are symmetric: the upper blocks are added and
-// mirrored and the diagonal blocks symmetrised, so the assembled matrix is exactly symmetric.
+// allocation. Element stiffness matrices are symmetric: kernels fill the upper blocks, which
+// are added and mirrored, and the diagonal blocks are symmetrised, so the assembled matrix is
+// exactly symmetric.
 #pragma once
 
 #include <sstream>
@@ -56,11 +57,36 @@ class AssembledModel final : public ForceModel {
   void scatter(Index e, const NodeMatrix& fe, Nodes& f) const {
     for (int a = 0; a < N; ++a) f.col(cells_(e, a)) += fe.col(a);
   }
+  // The stiffness sink of the global matrix: block (a, b), a <= b, of element e goes to its
+  // global block and, mirrored, to (b, a); diagonal blocks are symmetrised.
+  struct GlobalSink {
+    BlockSparseMatrix& A;
+    const int* ids;
+    double scale;
+    void add(int a, int b, const Mat3& block) {
+      if (a == b) {
+        A.block(ids[a * N + a]) += (0.5 * scale) * (block + block.transpose());
+      } else {
+        const Mat3 scaled = scale * block;
+        A.block(ids[a * N + b]) += scaled;
+        A.block(ids[b * N + a]) += scaled.transpose();
+      }
+    }
+  };
   void scatter(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const;
   void model_stiffness(const typename Kernel::Element& el, const typename Kernel::Frame& frame, const NodeMatrix& xe,
                        Stiffness& Ke) const {
-    kernel_.stiffness(el, frame, xe, Ke);
-    if (project_psd_) project_psd<3 * N>(Ke);
+    ElementMatrixSink<N> sink{Ke};
+    kernel_.stiffness(el, frame, xe, sink);
+    if (project_psd_) {
+      mirror_upper_blocks(Ke);
+      project_psd<3 * N>(Ke);
+    }
+  }
+  // Lower blocks (a > b) from the upper ones, for what reads the whole matrix.
+  static void mirror_upper_blocks(Stiffness& Ke) {
+    for (int a = 1; a < N; ++a)
+      for (int b = 0; b < a; ++b) Ke.template block<3, 3>(3 * a, 3 * b) = Ke.template block<3, 3>(3 * b, 3 * a).transpose();
   }
   void evaluate_constant(const Nodes& x, const Request& what, Results& out);
 
@@ -138,16 +164,9 @@ BlockSparseMatrix AssembledModel<Kernel>::mass_matrix(bool lumped) const {
 
 template <class Kernel>
 void AssembledModel<Kernel>::scatter(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const {
-  const int* ids = block_ids_.data() + e * N * N;
-  for (int a = 0; a < N; ++a) {
-    Mat3 diagonal = (0.5 * scale) * (Ke.template block<3, 3>(3 * a, 3 * a) + Ke.template block<3, 3>(3 * a, 3 * a).transpose());
-    A.block(ids[a * N + a]) += diagonal;
-    for (int b = a + 1; b < N; ++b) {
-      const Mat3 block = scale * Ke.template block<3, 3>(3 * a, 3 * b);
-      A.block(ids[a * N + b]) += block;
-      A.block(ids[b * N + a]) += block.transpose();
-    }
-  }
+  GlobalSink sink{A, block_ids_.data() + e * N * N, scale};
+  for (int a = 0; a < N; ++a)
+    for (int b = a; b < N; ++b) sink.add(a, b, Ke.template block<3, 3>(3 * a, 3 * b));
 }
 
 template <class Kernel>
@@ -158,6 +177,9 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
   } else {
     const StiffnessKind kind = out.stiffness ? what.stiffness : StiffnessKind::None;
     const bool linearize = what.forces && what.forces_at;
+    // The Model stiffness goes straight to the global matrix unless it is needed as an
+    // element matrix: for PSD projection, or to linearise the forces.
+    const bool direct_scatter = !project_psd_ && (!linearize || Kernel::forces_linear_given_frame);
     if (kind == StiffnessKind::Geometric && !Kernel::has_geometric_stiffness)
       throw InvalidInput(std::string("the '") + Kernel::name +
                          "' model has no separate geometric stiffness (the hyperelastic models have one)");
@@ -171,7 +193,14 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       const typename Kernel::Frame frame = kernel_.frame(el, xe, caches_[e]);
       if (what.energy) energy += kernel_.energy(el, frame, xe);
       bool have_model_stiffness = false;
-      if (kind == StiffnessKind::Model) {
+      bool scattered = false;
+      if (kind == StiffnessKind::Model && direct_scatter) {
+        // Straight into the global matrix: no element matrix in between (the hot path of
+        // the co-rotational step).
+        GlobalSink sink{*out.stiffness, block_ids_.data() + e * N * N, what.stiffness_scale};
+        kernel_.stiffness(el, frame, xe, sink);
+        scattered = true;
+      } else if (kind == StiffnessKind::Model) {
         model_stiffness(el, frame, xe, Ke);
         have_model_stiffness = true;
       } else if (kind == StiffnessKind::Tangent) {
@@ -194,6 +223,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
           } else {
             kernel_.forces(el, frame, xe, fe);
             if (!have_model_stiffness) model_stiffness(el, frame, xe, Ke), have_model_stiffness = true;
+            mirror_upper_blocks(Ke);
             ye -= xe;
             Eigen::Map<Eigen::Matrix<double, 3 * N, 1>>(fe.data()).noalias() -=
                 Ke * Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(ye.data());
@@ -201,7 +231,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
         }
         scatter(e, fe, *out.forces);
       }
-      if (kind == StiffnessKind::Model || kind == StiffnessKind::Tangent) scatter(e, what.stiffness_scale, Ke, *out.stiffness);
+      if ((kind == StiffnessKind::Model || kind == StiffnessKind::Tangent) && !scattered)
+        scatter(e, what.stiffness_scale, Ke, *out.stiffness);
     }
     if (what.energy) out.energy = energy;
   }

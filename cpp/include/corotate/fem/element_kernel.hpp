@@ -27,11 +27,17 @@
 //   double energy(const Element&, const Frame&, const NodeMatrix& x) const;
 //   void forces(const Element&, const Frame&, const NodeMatrix& x, NodeMatrix& f) const;
 //                                                             f = the element's nodal forces
-//   void stiffness(const Element&, const Frame&, const NodeMatrix& x, Stiffness& K) const;
-//                                                             K = the Model stiffness (3N x 3N,
+//   template <class Sink>
+//   void stiffness(const Element&, const Frame&, const NodeMatrix& x, Sink& K) const;
+//                                                             the Model stiffness (3N x 3N,
 //                                                             symmetric; see force_model.hpp)
+//                                                             as its 3x3 blocks (a, b), a <= b:
+//                                                             K.add(a, b, block). The sink adds
+//                                                             them to the global matrix (mirrored)
+//                                                             or to an element matrix
 //   bool tangent(const Element&, const Frame&, const NodeMatrix& x, Stiffness& K) const;
-//                                                             exact -df/dx; false where it is
+//                                                             exact -df/dx (at least the blocks
+//                                                             a <= b); false where it is
 //                                                             undefined (the Model one is used)
 //   void geometric_stiffness(const Element&, const NodeMatrix& x, NodeScalars& k, Index e) const;
 //                                                             (if has_geometric_stiffness)
@@ -58,6 +64,13 @@ struct KernelTypes {
   using NodeMatrix = Eigen::Matrix<double, 3, N>;
   using Stiffness = Eigen::Matrix<double, 3 * N, 3 * N>;
   using NodeScalars = Eigen::Matrix<double, N, N>;
+};
+
+// A stiffness sink that writes the blocks into an element matrix (upper blocks only).
+template <int N>
+struct ElementMatrixSink {
+  Eigen::Matrix<double, 3 * N, 3 * N>& K;
+  void add(int a, int b, const Mat3& block) { K.template block<3, 3>(3 * a, 3 * b) = block; }
 };
 
 // For kernels without per-configuration quantities or caches.

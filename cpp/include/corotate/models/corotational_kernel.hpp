@@ -61,13 +61,10 @@ class CorotationalKernel {
     const DofVector ku = el.K * Eigen::Map<const DofVector>(u.data());
     f.noalias() = -fr.R * Eigen::Map<const NodeMatrix>(ku.data());
   }
-  void stiffness(const Element& el, const Frame& fr, const NodeMatrix&, Stiffness& K) const {
-    // Rotate the upper blocks and mirror them (K_e is symmetric).
+  template <class Sink>
+  void stiffness(const Element& el, const Frame& fr, const NodeMatrix&, Sink& K) const {
     for (int a = 0; a < N; ++a)
-      for (int b = a; b < N; ++b) {
-        K.template block<3, 3>(3 * a, 3 * b).noalias() = fr.R * el.K.template block<3, 3>(3 * a, 3 * b) * fr.R.transpose();
-        if (b != a) K.template block<3, 3>(3 * b, 3 * a) = K.template block<3, 3>(3 * a, 3 * b).transpose();
-      }
+      for (int b = a; b < N; ++b) K.add(a, b, fr.R * el.K.template block<3, 3>(3 * a, 3 * b) * fr.R.transpose());
   }
   bool tangent(const Element&, const Frame&, const NodeMatrix&, Stiffness&) const { return false; }
 

@@ -51,15 +51,15 @@ class CorotationalKernel<Tet4> {
     const Mat3 P = el.volume * fr.R * stress(unrotated_strain(el, fr.R, x));  // f_a = -P dN_a/dX
     f.noalias() = -P * el.G.transpose();
   }
-  void stiffness(const Element& el, const Frame& fr, const NodeMatrix&, Stiffness& K) const {
+  template <class Sink>
+  void stiffness(const Element& el, const Frame& fr, const NodeMatrix&, Sink& K) const {
     const Eigen::Matrix<double, 3, 4> a = fr.R * el.G.transpose();  // rotated gradients
     const double v = el.volume;
     for (int i = 0; i < 4; ++i)
       for (int j = i; j < 4; ++j) {
         Mat3 block = (v * lambda_) * a.col(i) * a.col(j).transpose() + (v * mu_) * a.col(j) * a.col(i).transpose();
         block.diagonal().array() += v * mu_ * a.col(i).dot(a.col(j));
-        K.block<3, 3>(3 * i, 3 * j) = block;
-        if (j != i) K.block<3, 3>(3 * j, 3 * i) = block.transpose();
+        K.add(i, j, block);
       }
   }
   // Exact tangent. With P(F) = R sigma(sym(R^T F) - I) the element force is f_a = -V P g_a

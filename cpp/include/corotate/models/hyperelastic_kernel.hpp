@@ -63,9 +63,12 @@ class HyperelasticKernel {
     f.setZero();
     for (const auto& p : el.points) add_point_forces<Law, N, D>(law_, Deformation(x * p.G), p.G, p.w, f);
   }
-  void stiffness(const Element& el, const Frame&, const NodeMatrix& x, Stiffness& K) const {
-    K.setZero();
+  template <class Sink>
+  void stiffness(const Element& el, const Frame&, const NodeMatrix& x, Sink& sink) const {
+    Stiffness K = Stiffness::Zero();
     for (const auto& p : el.points) add_point_stiffness<Law, N, D>(law_, Deformation(x * p.G), p.G, p.w, K);
+    for (int a = 0; a < N; ++a)
+      for (int b = a; b < N; ++b) sink.add(a, b, K.template block<3, 3>(3 * a, 3 * b));
   }
   bool tangent(const Element&, const Frame&, const NodeMatrix&, Stiffness&) const { return false; }  // = stiffness
 

@@ -29,7 +29,11 @@ class LinearKernel {
   Element precompute(const NodeMatrix& X, Index e) const {
     return {linear_stiffness<E>(quadrature_points<E>(X, e, 1.0), material_)};
   }
-  void stiffness(const Element& el, const Frame&, const NodeMatrix&, Stiffness& K) const { K = el.K; }
+  template <class Sink>
+  void stiffness(const Element& el, const Frame&, const NodeMatrix&, Sink& K) const {
+    for (int a = 0; a < E::num_nodes; ++a)
+      for (int b = a; b < E::num_nodes; ++b) K.add(a, b, el.K.template block<3, 3>(3 * a, 3 * b));
+  }
 
  private:
   Material material_;

@@ -1,0 +1,69 @@
+"""The choices Python offers come from the C++ core, and the Literal types that mirror them
+for type checkers agree with it; defaults are the core's too."""
+
+from __future__ import annotations
+
+from typing import get_args
+
+import corotate as cr
+import corotate._core as _core
+from corotate import choices
+
+
+def test_literal_types_match_the_core_lists():
+    assert set(get_args(choices.ModelName)) == set(_core.model_names())
+    assert set(get_args(choices.CellType)) == set(_core.cell_type_names())
+    assert set(get_args(choices.PreconditionerName)) == set(_core.preconditioner_names())
+    assert set(get_args(choices.ExplicitIntegratorName)) == set(_core.explicit_integrator_names())
+    assert set(get_args(choices.ImplicitIntegratorName)) | set(get_args(choices.ExplicitIntegratorName)) == set(
+        _core.integrator_names()
+    )
+    assert set(get_args(choices.TimeStepPolicyName)) == set(_core.time_step_policy_names())
+    assert set(get_args(choices.OnUnstableName)) == set(_core.on_unstable_names())
+
+
+def test_models_per_cell_type():
+    assert _core.models_for_cell_type("triangle") == ["stvk"]
+    assert set(_core.models_for_cell_type("hexahedron20")) == set(_core.model_names())
+    assert _core.models_for_cell_type("wedge") == []
+
+
+def test_python_defaults_are_the_core_defaults():
+    core = _core.PCGSettings()
+    pcg = cr.PCG()
+    assert (pcg.max_iterations, pcg.tolerance, pcg.preconditioner, pcg.warm_start) == (
+        core.max_iterations,
+        core.tolerance,
+        core.preconditioner,
+        core.warm_start,
+    )
+    mesh = cr.box((1, 1, 1), (1, 1, 1), "tet4")
+    sim = cr.Simulation(cr.Body(mesh, cr.Material()))
+    assert sim.dt == _core.IntegratorSettings().time_step
+
+
+def test_settings_take_effect_and_bad_settings_change_nothing():
+    mesh = cr.box((1, 1, 1), (1, 1, 1), "tet4")
+    sim = cr.ExplicitSimulation(cr.Body(mesh, cr.Material()), dt=1e-4)
+    sim.integrator = "symplectic_euler"
+    assert sim._sim.settings.integrator == "symplectic_euler"
+    try:
+        sim.policy = "sometimes"
+    except ValueError as e:
+        assert "unknown time-step policy 'sometimes'" in str(e)
+    else:
+        raise AssertionError("an unknown policy was accepted")
+    assert sim._sim.settings.policy == "fixed" and sim.policy == "fixed"
+
+
+def test_type_stubs_name_every_public_symbol():
+    import ast
+    from pathlib import Path
+
+    stub = Path(_core.__file__).with_name("_core.pyi")
+    if not stub.exists():  # an installed wheel without the source tree's stub beside the module
+        stub = Path(__file__).parents[1] / "python" / "corotate" / "_core.pyi"
+    tree = ast.parse(stub.read_text())
+    declared = {node.name for node in tree.body if isinstance(node, (ast.ClassDef, ast.FunctionDef))}
+    public = {name for name in dir(_core) if not name.startswith("_")}
+    assert public - declared == set(), "regenerate python/corotate/_core.pyi (see its docstring)"
