@@ -1,0 +1,97 @@
+// Shared inputs of the C++ unit tests: seeded random numbers, a structured tet mesh and an
+// assembled SPD system A = M + dt^2 K built from the element matrices alone.
+#pragma once
+
+#include <random>
+
+#include "corotate/elements/element_matrices.hpp"
+#include "corotate/sparse/block_sparse_matrix.hpp"
+
+namespace fixtures {
+
+using namespace corotate;
+
+inline std::mt19937& rng() {
+  static std::mt19937 engine(20240611);
+  return engine;
+}
+
+inline double uniform(double lo = -1, double hi = 1) { return std::uniform_real_distribution<double>(lo, hi)(rng()); }
+
+template <class M>
+M random_matrix(Index rows = M::RowsAtCompileTime, Index cols = M::ColsAtCompileTime) {
+  M m(rows, cols);
+  for (Index j = 0; j < m.cols(); ++j)
+    for (Index i = 0; i < m.rows(); ++i) m(i, j) = uniform();
+  return m;
+}
+
+// Proper rotation from a random unit quaternion.
+inline Mat3 random_rotation() {
+  Eigen::Quaterniond q(uniform(), uniform(), uniform(), uniform());
+  q.normalize();
+  return q.toRotationMatrix();
+}
+
+struct Mesh {
+  Nodes points;
+  Connectivity cells;
+};
+
+// nx x ny x nz unit cubes, each cut into 6 positively oriented tets around its main diagonal.
+inline Mesh tet_beam(int nx, int ny, int nz) {
+  Mesh m;
+  auto id = [&](int i, int j, int k) { return (i * (ny + 1) + j) * (nz + 1) + k; };
+  m.points.resize(3, (nx + 1) * (ny + 1) * (nz + 1));
+  for (int i = 0; i <= nx; ++i)
+    for (int j = 0; j <= ny; ++j)
+      for (int k = 0; k <= nz; ++k) m.points.col(id(i, j, k)) = Vec3(i, j, k);
+  static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  m.cells.resize(6 * nx * ny * nz, 4);
+  int e = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int k = 0; k < nz; ++k)
+        for (const auto& p : perms) {
+          int c[3] = {i, j, k}, tet[4] = {id(i, j, k), 0, 0, 0};
+          for (int s = 0; s < 3; ++s) {
+            ++c[p[s]];
+            tet[s + 1] = id(c[0], c[1], c[2]);
+          }
+          Mat3 D;
+          for (int s = 0; s < 3; ++s) D.col(s) = m.points.col(tet[s + 1]) - m.points.col(tet[0]);
+          if (D.determinant() < 0) std::swap(tet[1], tet[2]);
+          for (int a = 0; a < 4; ++a) m.cells(e, a) = tet[a];
+          ++e;
+        }
+  return m;
+}
+
+// A = M + dt^2 K of linear elasticity on a tet mesh, assembled block by block; dense copy too.
+struct System {
+  BlockSparseMatrix A;
+  Eigen::MatrixXd dense;
+};
+
+inline System implicit_system(const Mesh& mesh, const Material& material, double dt) {
+  System s{BlockSparseMatrix::from_cells(mesh.points.cols(), mesh.cells), {}};
+  s.A.set_zero();
+  for (Index e = 0; e < mesh.cells.rows(); ++e) {
+    Eigen::Matrix<double, 3, 4> X;
+    for (int a = 0; a < 4; ++a) X.col(a) = mesh.points.col(mesh.cells(e, a));
+    const auto em = compute_element_matrices<Tet4>(X, material, e);
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        auto block = s.A.block(s.A.block_index(mesh.cells(e, a), mesh.cells(e, b)));
+        block += dt * dt * em.stiffness.block<3, 3>(3 * a, 3 * b);
+        block.diagonal().array() += em.mass(a, b);
+      }
+  }
+  s.dense = Eigen::MatrixXd::Zero(s.A.num_dofs(), s.A.num_dofs());
+  for (Index i = 0; i < s.A.num_nodes(); ++i)
+    for (int k = s.A.row_start()[i]; k < s.A.row_start()[i + 1]; ++k)
+      s.dense.block<3, 3>(3 * i, 3 * s.A.columns()[k]) = s.A.block(k);
+  return s;
+}
+
+}  // namespace fixtures
