@@ -14,6 +14,8 @@ tet/hex mesh) stepped explicitly with a safe time step (MassSpringBody, Explicit
 
 from __future__ import annotations
 
+import corotate._core as _core
+
 from .body import Body
 from .explicit import ExplicitSimulation
 from .mass_spring import MassSpringBody, SpringGeometry
@@ -40,4 +42,4 @@ __all__ = [
     "SpringGeometry",
     "ExplicitSimulation",
 ]
-__version__ = "0.1.0"
+__version__: str = _core.__version__  # from the VERSION file, through CMake

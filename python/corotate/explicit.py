@@ -27,6 +27,8 @@ if TYPE_CHECKING:
 __all__ = ["ExplicitSimulation"]
 
 _DEFAULTS = _core.IntegratorSettings(integrator="verlet", time_step=0.0)  # the defaults live in C++
+_DEFAULT_ON_UNSTABLE = cast(OnUnstableName, _DEFAULTS.on_unstable)
+_DEFAULT_POLICY = cast(TimeStepPolicyName, _DEFAULTS.policy)
 
 
 class ExplicitSimulation(DrivenBody):
@@ -62,8 +64,8 @@ class ExplicitSimulation(DrivenBody):
         body: MassSpringBody | Body,
         dt: float | None = None,
         integrator: ExplicitIntegratorName = "verlet",
-        on_unstable: OnUnstableName = cast(OnUnstableName, _DEFAULTS.on_unstable),
-        policy: TimeStepPolicyName = cast(TimeStepPolicyName, _DEFAULTS.policy),
+        on_unstable: OnUnstableName = _DEFAULT_ON_UNSTABLE,
+        policy: TimeStepPolicyName = _DEFAULT_POLICY,
         safety: float = _DEFAULTS.safety,
         gravity: ArrayLike = (0.0, 0.0, 0.0),
         mass_damping: float = _DEFAULTS.mass_damping,

@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .choices import ExplicitIntegratorName
 from .body import Body
+from .choices import ExplicitIntegratorName
 from .explicit import ExplicitSimulation
 from .mass_spring import MassSpringBody
 from .material import Material

@@ -10,6 +10,7 @@ import corotate._core as _core
 from .choices import PRECONDITIONERS, PreconditionerName, check_choice
 
 _DEFAULTS = _core.PCGSettings()  # the defaults live in C++ (solvers/pcg.hpp)
+_DEFAULT_PRECONDITIONER = cast(PreconditionerName, _DEFAULTS.preconditioner)
 
 
 @dataclass(frozen=True)
@@ -30,7 +31,7 @@ class PCG:
 
     max_iterations: int = _DEFAULTS.max_iterations
     tolerance: float = _DEFAULTS.tolerance
-    preconditioner: PreconditionerName = cast(PreconditionerName, _DEFAULTS.preconditioner)
+    preconditioner: PreconditionerName = _DEFAULT_PRECONDITIONER
     warm_start: bool = _DEFAULTS.warm_start
 
     def _settings(self) -> _core.PCGSettings:

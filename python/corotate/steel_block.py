@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .choices import ModelName
 from .body import Body
+from .choices import ModelName
 from .material import Material
 from .mesh import box
 from .scenes import pyplot
