@@ -67,3 +67,13 @@ def test_type_stubs_name_every_public_symbol():
     declared = {node.name for node in tree.body if isinstance(node, (ast.ClassDef, ast.FunctionDef))}
     public = {name for name in dir(_core) if not name.startswith("_")}
     assert public - declared == set(), "regenerate python/corotate/_core.pyi (see its docstring)"
+
+
+def test_bound_enums_match_the_name_lists():
+    def members(enum):
+        return [name.lower() for name in enum.__members__]
+
+    assert members(_core.IntegratorKind) == _core.integrator_names()
+    assert members(_core.TimeStepPolicy) == _core.time_step_policy_names()
+    assert members(_core.OnUnstable) == _core.on_unstable_names()
+    assert members(_core.PreconditionerKind) == _core.preconditioner_names()

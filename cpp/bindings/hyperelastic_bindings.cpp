@@ -7,16 +7,13 @@
 
 #include "conversions.hpp"
 #include "corotate/material.hpp"
-#include "corotate/materials/fixed_corotated.hpp"
-#include "corotate/materials/stable_neo_hookean.hpp"
-#include "corotate/materials/stvk.hpp"
+#include "corotate/models/registry.hpp"
 
 namespace py = pybind11;
 using namespace corotate;
 using namespace corotate::bindings;
 
 namespace {
-
 
 template <class Law>
 py::tuple evaluate_law(const Law& law, const Mat3& F) {
@@ -28,10 +25,17 @@ py::tuple evaluate_law(const Law& law, const Mat3& F) {
 void bind_hyperelastic(py::module_& m) {
   m.def("constitutive_law", [](const std::string& law, const Mat3& F, const Material& material) {
     const double lambda = material.lame_lambda(), mu = material.lame_mu();
-    if (law == StVK::name) return evaluate_law(StVK{lambda, mu}, F);
-    if (law == StableNeoHookean::name) return evaluate_law(StableNeoHookean{lambda, mu}, F);
-    if (law == FixedCorotated::name) return evaluate_law(FixedCorotated{lambda, mu}, F);
-    throw InvalidInput("unknown constitutive law '" + law + "' (choose 'stvk', 'neohookean' or 'corotated')");
+    py::tuple result;
+    const bool known = visit_by_name(HyperelasticLaws{}, law, [&](auto tag) {
+      using L = typename decltype(tag)::type;
+      result = evaluate_law(L{lambda, mu}, F);
+    });
+    if (!known) {
+      std::string choices;
+      for (const auto& name : names_of(HyperelasticLaws{})) choices += (choices.empty() ? "'" : ", '") + name + "'";
+      throw InvalidInput("unknown constitutive law '" + law + "' (choose " + choices + ")");
+    }
+    return result;
   }, py::arg("law"), py::arg("F"), py::arg("material"),
         "(W, P, dP/dF) of a law at the 3x3 deformation gradient F: energy density, first Piola-Kirchhoff\n"
         "stress (3x3) and its derivative (9x9, column-major vec: index i + 3j for F[i, j]).");

@@ -70,6 +70,17 @@ py::dict stats_dict(const SimulationStats& st) {
 }  // namespace
 
 void bind_simulation(py::module_& m) {
+  // The enums (members in upper case: RAISE is not a keyword); the Python API takes their names.
+  py::enum_<IntegratorKind>(m, "IntegratorKind")
+      .value("LINEARIZED", IntegratorKind::Linearized)
+      .value("NEWTON", IntegratorKind::Newton)
+      .value("SYMPLECTIC_EULER", IntegratorKind::SymplecticEuler)
+      .value("VERLET", IntegratorKind::Verlet);
+  py::enum_<TimeStepPolicy>(m, "TimeStepPolicy").value("FIXED", TimeStepPolicy::Fixed).value("ONLINE", TimeStepPolicy::Online);
+  py::enum_<OnUnstable>(m, "OnUnstable")
+      .value("SUBSTEP", OnUnstable::Substep)
+      .value("RAISE", OnUnstable::Raise)
+      .value("ALLOW", OnUnstable::Allow);
   const IntegratorSettings defaults;
   py::class_<IntegratorSettings>(m, "IntegratorSettings")
       .def(py::init([](const std::string& integrator, double time_step, double mass_damping, double stiffness_damping,

@@ -144,6 +144,7 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
   }
   x_new = x_;
   as_dofs(v_new) = (as_dofs(x_new) - as_dofs(in.x)) / dt;
+  for (Index d : in.fixed.list()) as_dofs(v_new)[d] = as_dofs(in.v)[d];  // exactly, not (x + dt v - x) / dt
   stats.total_ms = std::chrono::duration<double, std::milli>(clock::now() - t_start).count();
   stats.solve_ms = stats.total_ms;
   return stats;

@@ -15,6 +15,7 @@
 #include "corotate/elements/tri3.hpp"
 #include "corotate/fem/element_kernel.hpp"
 #include "corotate/materials/fixed_corotated.hpp"
+#include "corotate/materials/log_neo_hookean.hpp"
 #include "corotate/materials/stable_neo_hookean.hpp"
 #include "corotate/materials/stvk.hpp"
 #include "corotate/models/force_model.hpp"
@@ -30,7 +31,7 @@ struct Tag {
 
 using SolidElements = TypeList<Tet4, Hex8, Hex20>;
 using MembraneElements = TypeList<Tri3>;
-using HyperelasticLaws = TypeList<StVK, StableNeoHookean, FixedCorotated>;
+using HyperelasticLaws = TypeList<StVK, StableNeoHookean, FixedCorotated, LogNeoHookean>;
 using MembraneLaws = TypeList<StVK>;
 
 // Calls f(Tag<T>{}) for the T of the list whose T::name equals name; false if none does.
