@@ -40,8 +40,9 @@ inline TetMesh structured_tet_beam(int nx, int ny, int nz, double lx, double ly,
             ++c[p[s]];
             tet[s + 1] = id(c[0], c[1], c[2]);
           }
-          const Mat3 D = (Mat3() << m.points.col(tet[1]) - m.points.col(tet[0]), m.points.col(tet[2]) - m.points.col(tet[0]),
-                          m.points.col(tet[3]) - m.points.col(tet[0])).finished();
+          const Mat3 D = (Mat3() << m.points.col(tet[1]) - m.points.col(tet[0]),
+                          m.points.col(tet[2]) - m.points.col(tet[0]), m.points.col(tet[3]) - m.points.col(tet[0]))
+                             .finished();
           if (D.determinant() < 0) std::swap(tet[1], tet[2]);
           for (int a = 0; a < 4; ++a) m.cells(e, a) = tet[a];
           ++e;

@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "beam_scenario.hpp"
-#include "mass_spring_scenario.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/simulation.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
+#include "mass_spring_scenario.hpp"
 
 using namespace corotate;
 using clock_type = std::chrono::steady_clock;
@@ -158,7 +158,8 @@ int main(int argc, char** argv) {
     // --scenario mass_spring: the explicit mass-spring benchmark (mass_spring_scenario.hpp).
     if (argc >= 3 && std::string(argv[1]) == "--scenario") {
       if (std::string(argv[2]) == "mass_spring") return bench::mass_spring_main(argc - 3, argv + 3);
-      if (std::string(argv[2]) != "beam") throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring)");
+      if (std::string(argv[2]) != "beam")
+        throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring)");
       argc -= 2, argv += 2;
     }
     for (int a = 1; a < argc; ++a) {
@@ -167,9 +168,13 @@ int main(int argc, char** argv) {
         if (a + 1 >= argc) throw InvalidInput("missing value after " + arg);
         return argv[++a];
       };
-      if (arg == "--help" || arg == "-h") { usage(); return 0; }
-      else if (arg == "--sizes") { opt.sizes.clear(); for (auto& s : split(value())) opt.sizes.push_back(std::stoi(s)); }
-      else if (arg == "--mesh") opt.mesh_path = value();
+      if (arg == "--help" || arg == "-h") {
+        usage();
+        return 0;
+      } else if (arg == "--sizes") {
+        opt.sizes.clear();
+        for (auto& s : split(value())) opt.sizes.push_back(std::stoi(s));
+      } else if (arg == "--mesh") opt.mesh_path = value();
       else if (arg == "--configs") opt.configs = split(value());
       else if (arg == "--steps") opt.steps = std::stoi(value());
       else if (arg == "--dt") opt.dt = std::stod(value());
@@ -182,16 +187,19 @@ int main(int argc, char** argv) {
     }
     std::vector<std::pair<std::string, bench::TetMesh>> meshes;
     if (!opt.mesh_path.empty())  // label: the file name without folders
-      meshes.emplace_back(opt.mesh_path.substr(opt.mesh_path.find_last_of("/\\") + 1), bench::read_tetgen(opt.mesh_path));
+      meshes.emplace_back(opt.mesh_path.substr(opt.mesh_path.find_last_of("/\\") + 1),
+                          bench::read_tetgen(opt.mesh_path));
     else
       for (int s : opt.sizes)
-        meshes.emplace_back("beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),
-                            bench::structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
+        meshes.emplace_back(
+            "beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),
+            bench::structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
 
-    std::printf("scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, one thread\n",
-                opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent");
-    std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s\n", "mesh", "tets", "config", "precmp_ms", "1st_step",
-                "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]");
+    std::printf(
+        "scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, one thread\n",
+        opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent");
+    std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s\n", "mesh", "tets", "config", "precmp_ms",
+                "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]");
     for (const auto& [label, mesh] : meshes) {
       const RunResult ref = run(mesh, config_by_name("reference", opt), opt);
       auto print = [&](const std::string& name, const RunResult& r) {

@@ -4,9 +4,9 @@
 // at two corners, the `corotate scenes` cloth) and cube lattices 20^3 and 40^3 cells
 // (0.5 m, E = 200 kPa, 1000 kg/m^3, beta = 1e-4, bottom layer pinned). Gravity; frames of 1/60 s
 // sub-stepped at 0.9 x the conservative (fixed-policy) critical step; velocity Verlet.
-// Bodies over 200,000 springs run frames/10 frames (at least 3). Prints springs, substeps per frame, median ms per frame and per substep, springs per
-// second (springs x substeps / wall time), the real-time ratio, the time of one dt_crit
-// estimate, and how much larger the online (current-configuration) step is at rest.
+// Bodies over 200,000 springs run frames/10 frames (at least 3). Prints springs, substeps per frame, median ms per
+// frame and per substep, springs per second (springs x substeps / wall time), the real-time ratio, the time of one
+// dt_crit estimate, and how much larger the online (current-configuration) step is at rest.
 #pragma once
 
 #include <algorithm>
@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "corotate/simulation.hpp"
 #include "corotate/models/spring_builders.hpp"
+#include "corotate/simulation.hpp"
 
 namespace corotate::bench {
 
@@ -26,9 +26,13 @@ inline int mass_spring_main(int argc, char** argv) {
   for (int a = 0; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--frames" && a + 1 < argc) frames = std::stoi(argv[++a]);
-    else if (arg == "--integrator" && a + 1 < argc) { scheme = integrator_from_name(argv[++a]); if (!is_explicit(scheme)) throw InvalidInput("--integrator: verlet or symplectic_euler"); }
-    else if (arg == "--help" || arg == "-h") {
-      std::puts("usage: corotate_bench --scenario mass_spring [--frames N (default 30)] [--integrator verlet|symplectic_euler]");
+    else if (arg == "--integrator" && a + 1 < argc) {
+      scheme = integrator_from_name(argv[++a]);
+      if (!is_explicit(scheme)) throw InvalidInput("--integrator: verlet or symplectic_euler");
+    } else if (arg == "--help" || arg == "-h") {
+      std::puts(
+          "usage: corotate_bench --scenario mass_spring [--frames N (default 30)] [--integrator "
+          "verlet|symplectic_euler]");
       return 0;
     } else throw InvalidInput("unknown option " + arg + " for --scenario mass_spring");
   }
@@ -47,7 +51,9 @@ inline int mass_spring_main(int argc, char** argv) {
     c.density = 200.0;
     c.bending = 0.01;
     c.beta = 1e-5;
-    cases.push_back({"cloth " + std::to_string(n) + "x" + std::to_string(n), cloth_grid(c), {Index(n) * (n - 1), Index(n) * n - 1}});
+    cases.push_back({"cloth " + std::to_string(n) + "x" + std::to_string(n),
+                     cloth_grid(c),
+                     {Index(n) * (n - 1), Index(n) * n - 1}});
   }
   for (int n : {20, 40}) {
     LatticeSettings l;
@@ -61,8 +67,10 @@ inline int mass_spring_main(int argc, char** argv) {
       if (c.system.nodes(2, i) == 0.0) c.pinned.push_back(i);
     cases.push_back(std::move(c));
   }
-  std::printf("scenario: mass-spring, %s, frames of 1/60 s at 0.9 x the fixed-policy critical step, gravity, %d frames, one thread\n",
-              integrator_name(scheme), frames);
+  std::printf(
+      "scenario: mass-spring, %s, frames of 1/60 s at 0.9 x the fixed-policy critical step, gravity, %d frames, one "
+      "thread\n",
+      integrator_name(scheme), frames);
   std::printf("%-16s %8s %9s %9s %9s %9s %8s %10s %9s %9s %9s\n", "body", "nodes", "springs", "precmp_ms", "substeps",
               "ms/frame", "us/sub", "Msprings/s", "rt_ratio", "est_ms", "online_x");
   for (auto& c : cases) {
@@ -92,9 +100,10 @@ inline int mass_spring_main(int argc, char** argv) {
     const auto& st = sim.stats();
     const double substeps = double(st.substeps) / st.steps;
     const double median = frame_ms[frame_ms.size() / 2];
-    std::printf("%-16s %8ld %9ld %9.1f %9.0f %9.2f %8.2f %10.1f %9.2f %9.2f %9.2f\n", c.label.c_str(), static_cast<long>(nodes),
-                static_cast<long>(springs), precompute_ms, substeps, median, 1e3 * median / substeps,
-                springs * substeps / (median * 1e-3) * 1e-6, (1.0 / 60.0) / (median * 1e-3), estimate_ms, online_step / fixed_step);
+    std::printf("%-16s %8ld %9ld %9.1f %9.0f %9.2f %8.2f %10.1f %9.2f %9.2f %9.2f\n", c.label.c_str(),
+                static_cast<long>(nodes), static_cast<long>(springs), precompute_ms, substeps, median,
+                1e3 * median / substeps, springs * substeps / (median * 1e-3) * 1e-6, (1.0 / 60.0) / (median * 1e-3),
+                estimate_ms, online_step / fixed_step);
     std::fflush(stdout);
   }
   return 0;

@@ -32,7 +32,8 @@ inline Connectivity cells_from(const CellsIn& cells) {
   for (py::ssize_t k = 0; k < cells.size(); ++k) {
     const long long v = cells.data()[k];
     if (v < 0 || v > std::numeric_limits<int>::max())
-      throw InvalidInput("cell " + std::to_string(k / cells.shape(1)) + " refers to node " + std::to_string(v) + ", out of range");
+      throw InvalidInput("cell " + std::to_string(k / cells.shape(1)) + " refers to node " + std::to_string(v) +
+                         ", out of range");
     c.data()[k] = static_cast<int>(v);
   }
   return c;

@@ -23,20 +23,23 @@ py::tuple evaluate_law(const Law& law, const Mat3& F) {
 }  // namespace
 
 void bind_hyperelastic(py::module_& m) {
-  m.def("constitutive_law", [](const std::string& law, const Mat3& F, const Material& material) {
-    const double lambda = material.lame_lambda(), mu = material.lame_mu();
-    py::tuple result;
-    const bool known = visit_by_name(HyperelasticLaws{}, law, [&](auto tag) {
-      using L = typename decltype(tag)::type;
-      result = evaluate_law(L{lambda, mu}, F);
-    });
-    if (!known) {
-      std::string choices;
-      for (const auto& name : names_of(HyperelasticLaws{})) choices += (choices.empty() ? "'" : ", '") + name + "'";
-      throw InvalidInput("unknown constitutive law '" + law + "' (choose " + choices + ")");
-    }
-    return result;
-  }, py::arg("law"), py::arg("F"), py::arg("material"),
-        "(W, P, dP/dF) of a law at the 3x3 deformation gradient F: energy density, first Piola-Kirchhoff\n"
-        "stress (3x3) and its derivative (9x9, column-major vec: index i + 3j for F[i, j]).");
+  m.def(
+      "constitutive_law",
+      [](const std::string& law, const Mat3& F, const Material& material) {
+        const double lambda = material.lame_lambda(), mu = material.lame_mu();
+        py::tuple result;
+        const bool known = visit_by_name(HyperelasticLaws{}, law, [&](auto tag) {
+          using L = typename decltype(tag)::type;
+          result = evaluate_law(L{lambda, mu}, F);
+        });
+        if (!known) {
+          std::string choices;
+          for (const auto& name : names_of(HyperelasticLaws{})) choices += (choices.empty() ? "'" : ", '") + name + "'";
+          throw InvalidInput("unknown constitutive law '" + law + "' (choose " + choices + ")");
+        }
+        return result;
+      },
+      py::arg("law"), py::arg("F"), py::arg("material"),
+      "(W, P, dP/dF) of a law at the 3x3 deformation gradient F: energy density, first Piola-Kirchhoff\n"
+      "stress (3x3) and its derivative (9x9, column-major vec: index i + 3j for F[i, j]).");
 }

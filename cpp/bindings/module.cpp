@@ -8,9 +8,9 @@
 
 #include "conversions.hpp"
 #include "corotate/elements/element_matrices.hpp"
+#include "corotate/integrators/integrator.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/models/rotation_extraction.hpp"
-#include "corotate/integrators/integrator.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
 
@@ -27,14 +27,16 @@ namespace {
 
 const PCGSettings kPCG{};  // defaults
 
-
 // Block matrix from a symmetric COO description of a 3n x 3n matrix.
-BlockSparseMatrix from_coo(Index size, const Eigen::VectorXi& rows, const Eigen::VectorXi& cols, const Eigen::VectorXd& values) {
+BlockSparseMatrix from_coo(Index size, const Eigen::VectorXi& rows, const Eigen::VectorXi& cols,
+                           const Eigen::VectorXd& values) {
   if (size % 3 != 0) throw InvalidInput("matrix size must be a multiple of 3");
-  if (rows.size() != cols.size() || rows.size() != values.size()) throw InvalidInput("rows, cols and values differ in length");
+  if (rows.size() != cols.size() || rows.size() != values.size())
+    throw InvalidInput("rows, cols and values differ in length");
   std::vector<std::pair<int, int>> pairs;
   for (Index k = 0; k < rows.size(); ++k) {
-    if (rows[k] < 0 || rows[k] >= size || cols[k] < 0 || cols[k] >= size) throw InvalidInput("matrix index out of range");
+    if (rows[k] < 0 || rows[k] >= size || cols[k] < 0 || cols[k] >= size)
+      throw InvalidInput("matrix index out of range");
     pairs.emplace_back(rows[k] / 3, cols[k] / 3);
   }
   BlockSparseMatrix A = BlockSparseMatrix::from_pairs(size / 3, pairs);
@@ -61,7 +63,8 @@ py::dict solve_stats_dict(const SolveStats& s) {
 template <class E>
 py::dict element_matrices_dict(const PointsIn& points, const Material& material) {
   const Nodes X = nodes_from(points, "element nodes");
-  if (X.cols() != E::num_nodes) throw InvalidInput(std::string(E::name) + " needs " + std::to_string(E::num_nodes) + " nodes");
+  if (X.cols() != E::num_nodes)
+    throw InvalidInput(std::string(E::name) + " needs " + std::to_string(E::num_nodes) + " nodes");
   material.validate();
   const auto m = compute_element_matrices<E>(X, material, 0);
   py::dict d;
@@ -92,12 +95,15 @@ PYBIND11_MODULE(_core, m) {
   m.def("models_for_cell_type", &models_for_cell_type, py::arg("cell_type"), "The models available for a cell type.");
   m.def("preconditioner_names", &preconditioner_names, "Every PCG preconditioner name.");
   m.def("integrator_names", &integrator_names, "Every integrator name.");
-  m.def("explicit_integrator_names", [] {
-    std::vector<std::string> out;
-    for (const auto& name : integrator_names())
-      if (is_explicit(integrator_from_name(name))) out.push_back(name);
-    return out;
-  }, "The explicit integrators.");
+  m.def(
+      "explicit_integrator_names",
+      [] {
+        std::vector<std::string> out;
+        for (const auto& name : integrator_names())
+          if (is_explicit(integrator_from_name(name))) out.push_back(name);
+        return out;
+      },
+      "The explicit integrators.");
   m.def("time_step_policy_names", &time_step_policy_names);
   m.def("on_unstable_names", &on_unstable_names);
 
@@ -115,23 +121,30 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("lame_mu", &Material::lame_mu)
       .def("elasticity_matrix", &Material::elasticity_matrix);
 
-  m.def("element_matrices", [](const std::string& cell_type, const PointsIn& points, const Material& material) {
-    if (cell_type == Tet4::name) return element_matrices_dict<Tet4>(points, material);
-    if (cell_type == Hex8::name) return element_matrices_dict<Hex8>(points, material);
-    if (cell_type == Hex20::name) return element_matrices_dict<Hex20>(points, material);
-    throw InvalidInput("unsupported cell type '" + cell_type + "'");
-  }, py::arg("cell_type"), py::arg("points"), py::arg("material"),
-        "Precomputed matrices of one element: stiffness (3k x 3k), consistent mass (k x k scalar), lumped_mass (k), volume.");
+  m.def(
+      "element_matrices",
+      [](const std::string& cell_type, const PointsIn& points, const Material& material) {
+        if (cell_type == Tet4::name) return element_matrices_dict<Tet4>(points, material);
+        if (cell_type == Hex8::name) return element_matrices_dict<Hex8>(points, material);
+        if (cell_type == Hex20::name) return element_matrices_dict<Hex20>(points, material);
+        throw InvalidInput("unsupported cell type '" + cell_type + "'");
+      },
+      py::arg("cell_type"), py::arg("points"), py::arg("material"),
+      "Precomputed matrices of one element: stiffness (3k x 3k), consistent mass (k x k scalar), lumped_mass (k), "
+      "volume.");
 
   m.def("polar_rotation", [](const Mat3& F) { return polar_rotation_svd(F); }, py::arg("F"));
-  m.def("extract_rotation", [](const Mat3& F) {
-    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-    return extract_rotation(F, q);
-  }, py::arg("F"), "Rotation of F by the warm-startable iteration, started from the identity.");
+  m.def(
+      "extract_rotation",
+      [](const Mat3& F) {
+        Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+        return extract_rotation(F, q);
+      },
+      py::arg("F"), "Rotation of F by the warm-startable iteration, started from the identity.");
 
   py::class_<ForceModel>(m, "ForceModel")
-      .def(py::init([](const std::string& model, const std::string& cell_type, const PointsIn& points, const CellsIn& cells,
-                       const Material& material, double thickness, bool project_psd) {
+      .def(py::init([](const std::string& model, const std::string& cell_type, const PointsIn& points,
+                       const CellsIn& cells, const Material& material, double thickness, bool project_psd) {
              return make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells), material,
                                ModelOptions{thickness, project_psd});
            }),
@@ -141,25 +154,40 @@ PYBIND11_MODULE(_core, m) {
            "(clamp each element stiffness to positive semi-definite).")
       .def_property_readonly("name", &ForceModel::name)
       .def_property_readonly("num_nodes", &ForceModel::num_nodes)
-      .def("internal_forces", [](ForceModel& self, const PointsIn& x) {
-        const Nodes X = checked_positions(self, x);
-        Nodes f = Nodes::Zero(3, X.cols());
-        self.add_forces(X, f);
-        return Eigen::MatrixXd(f.transpose());
-      }, py::arg("positions"), "Internal elastic forces (n, 3) at positions (n, 3).")
-      .def("energy", [](ForceModel& self, const PointsIn& x) {
-        return self.energy(checked_positions(self, x));
-      }, py::arg("positions"))
-      .def("stiffness_csr", [](ForceModel& self, const PointsIn& x) {
-        return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Model);
-      }, py::arg("positions"), "Stiffness (the one implicit steps use) at positions as a CSR triple (data, indices, indptr).")
-      .def("tangent_csr", [](ForceModel& self, const PointsIn& x) {
-        return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Tangent);
-      }, py::arg("positions"), "Exact tangent -df/dx at positions as a CSR triple.")
-      .def("geometric_stiffness_csr", [](ForceModel& self, const PointsIn& x) {
-        return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Geometric);
-      }, py::arg("positions"), "Initial-stress stiffness K_sigma at positions (n, 3) as a CSR triple.")
-      .def("mass_csr", [](ForceModel& self, bool lumped) { return to_csr(self.mass_matrix(lumped)); }, py::arg("lumped"));
+      .def(
+          "internal_forces",
+          [](ForceModel& self, const PointsIn& x) {
+            const Nodes X = checked_positions(self, x);
+            Nodes f = Nodes::Zero(3, X.cols());
+            self.add_forces(X, f);
+            return Eigen::MatrixXd(f.transpose());
+          },
+          py::arg("positions"), "Internal elastic forces (n, 3) at positions (n, 3).")
+      .def(
+          "energy", [](ForceModel& self, const PointsIn& x) { return self.energy(checked_positions(self, x)); },
+          py::arg("positions"))
+      .def(
+          "stiffness_csr",
+          [](ForceModel& self, const PointsIn& x) {
+            return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Model);
+          },
+          py::arg("positions"),
+          "Stiffness (the one implicit steps use) at positions as a CSR triple (data, indices, indptr).")
+      .def(
+          "tangent_csr",
+          [](ForceModel& self, const PointsIn& x) {
+            return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Tangent);
+          },
+          py::arg("positions"), "Exact tangent -df/dx at positions as a CSR triple.")
+      .def(
+          "geometric_stiffness_csr",
+          [](ForceModel& self, const PointsIn& x) {
+            return stiffness_csr(self, checked_positions(self, x), StiffnessKind::Geometric);
+          },
+          py::arg("positions"), "Initial-stress stiffness K_sigma at positions (n, 3) as a CSR triple.")
+      .def(
+          "mass_csr", [](ForceModel& self, bool lumped) { return to_csr(self.mass_matrix(lumped)); },
+          py::arg("lumped"));
 
   py::class_<BlockSparseMatrix>(m, "BlockSparseMatrix")
       .def(py::init(&from_coo), py::arg("size"), py::arg("rows"), py::arg("cols"), py::arg("values"),
@@ -179,28 +207,33 @@ PYBIND11_MODULE(_core, m) {
              return s;
            }),
            py::arg("max_iterations") = kPCG.max_iterations, py::arg("tolerance") = kPCG.tolerance,
-           py::arg("warm_start") = kPCG.warm_start, py::arg("preconditioner") = std::string(preconditioner_name(kPCG.preconditioner)),
+           py::arg("warm_start") = kPCG.warm_start,
+           py::arg("preconditioner") = std::string(preconditioner_name(kPCG.preconditioner)),
            "Settings of the capped PCG solver; the defaults are corotate's default solver.")
       .def_readonly("max_iterations", &PCGSettings::max_iterations)
       .def_readonly("tolerance", &PCGSettings::tolerance)
       .def_readonly("warm_start", &PCGSettings::warm_start)
-      .def_property_readonly("preconditioner", [](const PCGSettings& s) { return preconditioner_name(s.preconditioner); });
+      .def_property_readonly("preconditioner",
+                             [](const PCGSettings& s) { return preconditioner_name(s.preconditioner); });
 
-  m.def("solve_linear", [](const BlockSparseMatrix& A, const Vec& b, const std::optional<Vec>& x0, const std::string& solver,
-                           const PCGSettings& pcg, const std::optional<PointsIn>& geometry) {
-    if (b.size() != A.num_dofs()) throw InvalidInput("right-hand side length does not match the matrix");
-    Vec x = x0 ? *x0 : Vec::Zero(b.size());
-    if (x.size() != b.size()) throw InvalidInput("initial guess length does not match the matrix");
-    auto s = make_solver(solver, pcg);
-    if (geometry) s->set_geometry(nodes_from(*geometry, "geometry"));
-    const SolveStats stats = s->solve(A, b, x);
-    return py::make_tuple(x, solve_stats_dict(stats));
-  }, py::arg("A"), py::arg("b"), py::arg("x0") = py::none(), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{},
-        py::arg("geometry") = py::none(),
-        "Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node\n"
-        "positions, needed by the two_level preconditioner. Returns (x, stats).");
+  m.def(
+      "solve_linear",
+      [](const BlockSparseMatrix& A, const Vec& b, const std::optional<Vec>& x0, const std::string& solver,
+         const PCGSettings& pcg, const std::optional<PointsIn>& geometry) {
+        if (b.size() != A.num_dofs()) throw InvalidInput("right-hand side length does not match the matrix");
+        Vec x = x0 ? *x0 : Vec::Zero(b.size());
+        if (x.size() != b.size()) throw InvalidInput("initial guess length does not match the matrix");
+        auto s = make_solver(solver, pcg);
+        if (geometry) s->set_geometry(nodes_from(*geometry, "geometry"));
+        const SolveStats stats = s->solve(A, b, x);
+        return py::make_tuple(x, solve_stats_dict(stats));
+      },
+      py::arg("A"), py::arg("b"), py::arg("x0") = py::none(), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{},
+      py::arg("geometry") = py::none(),
+      "Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node\n"
+      "positions, needed by the two_level preconditioner. Returns (x, stats).");
 
-  bind_simulation(m);     // simulation_bindings.cpp
+  bind_simulation(m);  // simulation_bindings.cpp
   bind_mass_spring(m);  // after ForceModel, which MassSpring derives from
   bind_hyperelastic(m);  // after ForceModel, which it returns
 }

@@ -76,7 +76,9 @@ void bind_simulation(py::module_& m) {
       .value("NEWTON", IntegratorKind::Newton)
       .value("SYMPLECTIC_EULER", IntegratorKind::SymplecticEuler)
       .value("VERLET", IntegratorKind::Verlet);
-  py::enum_<TimeStepPolicy>(m, "TimeStepPolicy").value("FIXED", TimeStepPolicy::Fixed).value("ONLINE", TimeStepPolicy::Online);
+  py::enum_<TimeStepPolicy>(m, "TimeStepPolicy")
+      .value("FIXED", TimeStepPolicy::Fixed)
+      .value("ONLINE", TimeStepPolicy::Online);
   py::enum_<OnUnstable>(m, "OnUnstable")
       .value("SUBSTEP", OnUnstable::Substep)
       .value("RAISE", OnUnstable::Raise)
@@ -86,18 +88,27 @@ void bind_simulation(py::module_& m) {
       .def(py::init([](const std::string& integrator, double time_step, double mass_damping, double stiffness_damping,
                        bool lumped_mass, int newton_iterations, double newton_tolerance, const std::string& policy,
                        const std::string& on_unstable, double safety) {
-             IntegratorSettings s{integrator_from_name(integrator), time_step, mass_damping, stiffness_damping, lumped_mass,
-                                  newton_iterations, newton_tolerance, time_step_policy_from_name(policy),
-                                  on_unstable_from_name(on_unstable), safety};
+             IntegratorSettings s{integrator_from_name(integrator),
+                                  time_step,
+                                  mass_damping,
+                                  stiffness_damping,
+                                  lumped_mass,
+                                  newton_iterations,
+                                  newton_tolerance,
+                                  time_step_policy_from_name(policy),
+                                  on_unstable_from_name(on_unstable),
+                                  safety};
              s.validate();
              return s;
            }),
-           py::arg("integrator") = std::string(integrator_name(defaults.kind)), py::arg("time_step") = defaults.time_step,
-           py::arg("mass_damping") = defaults.mass_damping, py::arg("stiffness_damping") = defaults.stiffness_damping,
-           py::arg("lumped_mass") = defaults.lumped_mass, py::arg("newton_iterations") = defaults.newton_iterations,
+           py::arg("integrator") = std::string(integrator_name(defaults.kind)),
+           py::arg("time_step") = defaults.time_step, py::arg("mass_damping") = defaults.mass_damping,
+           py::arg("stiffness_damping") = defaults.stiffness_damping, py::arg("lumped_mass") = defaults.lumped_mass,
+           py::arg("newton_iterations") = defaults.newton_iterations,
            py::arg("newton_tolerance") = defaults.newton_tolerance,
            py::arg("policy") = std::string(time_step_policy_name(defaults.policy)),
-           py::arg("on_unstable") = std::string(on_unstable_name(defaults.on_unstable)), py::arg("safety") = defaults.safety,
+           py::arg("on_unstable") = std::string(on_unstable_name(defaults.on_unstable)),
+           py::arg("safety") = defaults.safety,
            "Settings of every integrator (each reads what applies to it); see integrators/integrator.hpp.")
       .def_property_readonly("integrator", [](const IntegratorSettings& s) { return integrator_name(s.kind); })
       .def_property_readonly("is_explicit", [](const IntegratorSettings& s) { return is_explicit(s.kind); })
@@ -118,54 +129,69 @@ void bind_simulation(py::module_& m) {
            }),
            py::arg("model"), py::arg("settings"), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{},
            "Simulation of its own copy of `model`, stepped by the integrator of `settings`.")
-      .def_property_readonly("positions", [](py::object self) { return node_view(self.cast<Simulation&>().positions(), self); })
-      .def_property_readonly("velocities", [](py::object self) { return node_view(self.cast<Simulation&>().velocities(), self); })
-      .def_property_readonly("external_forces",
-                             [](py::object self) { return node_view(self.cast<Simulation&>().external_forces(), self); })
-      .def_property_readonly("gravity_forces", [](const Simulation& s) { return Eigen::MatrixXd(s.gravity_forces().transpose()); })
+      .def_property_readonly("positions",
+                             [](py::object self) { return node_view(self.cast<Simulation&>().positions(), self); })
+      .def_property_readonly("velocities",
+                             [](py::object self) { return node_view(self.cast<Simulation&>().velocities(), self); })
+      .def_property_readonly(
+          "external_forces",
+          [](py::object self) { return node_view(self.cast<Simulation&>().external_forces(), self); })
+      .def_property_readonly("gravity_forces",
+                             [](const Simulation& s) { return Eigen::MatrixXd(s.gravity_forces().transpose()); })
       .def_property_readonly("time", &Simulation::time)
       .def_property_readonly("num_nodes", &Simulation::num_nodes)
       .def_property("gravity", &Simulation::gravity, &Simulation::set_gravity)
       .def_property("fixed_nodes", &Simulation::fixed_nodes, &Simulation::set_fixed_nodes)
       .def_property("settings", &Simulation::settings, &Simulation::set_settings)
-      .def("set_solver", [](Simulation& s, const std::string& solver, const PCGSettings& pcg) { s.set_solver(make_solver(solver, pcg)); },
-           py::arg("solver"), py::arg("pcg") = PCGSettings{})
+      .def(
+          "set_solver",
+          [](Simulation& s, const std::string& solver, const PCGSettings& pcg) {
+            s.set_solver(make_solver(solver, pcg));
+          },
+          py::arg("solver"), py::arg("pcg") = PCGSettings{})
       .def("step", &Simulation::step, py::arg("n") = 1, py::call_guard<py::gil_scoped_release>())
-      .def("solve_static", [](Simulation& s, int load_steps, double tolerance, int max_iterations,
-                              const std::optional<PointsIn>& prescribed) {
-        std::optional<Nodes> target;
-        if (prescribed) {
-          target = nodes_from(*prescribed, "prescribed positions");
-          if (target->cols() != s.num_nodes()) throw InvalidInput("prescribed positions must have one row per node");
-        }
-        const StaticResult r = s.solve_static({load_steps, tolerance, max_iterations}, target ? &*target : nullptr);
-        py::dict d;
-        d["residual_history"] = r.residual_history;
-        d["iterations"] = r.total_iterations;
-        return d;
-      }, py::arg("load_steps") = StaticSettings{}.load_steps, py::arg("tolerance") = StaticSettings{}.tolerance,
-         py::arg("max_iterations") = StaticSettings{}.max_iterations, py::arg("prescribed") = py::none())
-      .def("internal_forces", [](Simulation& s) {
-        Nodes f = Nodes::Zero(3, s.num_nodes());
-        s.model().add_forces(s.positions(), f);
-        return Eigen::MatrixXd(f.transpose());
-      })
-      .def("damping_forces", [](Simulation& s) {
-        // The model's own damping forces: all explicit forces at (x, v) minus the elastic ones.
-        Nodes f = Nodes::Zero(3, s.num_nodes());
-        if (const ExplicitTraits* traits = s.model().explicit_traits()) {
-          traits->add_forces_and_damping(s.positions(), s.velocities(), f);
-          Nodes elastic = Nodes::Zero(3, s.num_nodes());
-          s.model().add_forces(s.positions(), elastic);
-          f -= elastic;
-        }
-        return Eigen::MatrixXd(f.transpose());
-      })
+      .def(
+          "solve_static",
+          [](Simulation& s, int load_steps, double tolerance, int max_iterations,
+             const std::optional<PointsIn>& prescribed) {
+            std::optional<Nodes> target;
+            if (prescribed) {
+              target = nodes_from(*prescribed, "prescribed positions");
+              if (target->cols() != s.num_nodes())
+                throw InvalidInput("prescribed positions must have one row per node");
+            }
+            const StaticResult r = s.solve_static({load_steps, tolerance, max_iterations}, target ? &*target : nullptr);
+            py::dict d;
+            d["residual_history"] = r.residual_history;
+            d["iterations"] = r.total_iterations;
+            return d;
+          },
+          py::arg("load_steps") = StaticSettings{}.load_steps, py::arg("tolerance") = StaticSettings{}.tolerance,
+          py::arg("max_iterations") = StaticSettings{}.max_iterations, py::arg("prescribed") = py::none())
+      .def("internal_forces",
+           [](Simulation& s) {
+             Nodes f = Nodes::Zero(3, s.num_nodes());
+             s.model().add_forces(s.positions(), f);
+             return Eigen::MatrixXd(f.transpose());
+           })
+      .def("damping_forces",
+           [](Simulation& s) {
+             // The model's own damping forces: all explicit forces at (x, v) minus the elastic ones.
+             Nodes f = Nodes::Zero(3, s.num_nodes());
+             if (const ExplicitTraits* traits = s.model().explicit_traits()) {
+               traits->add_forces_and_damping(s.positions(), s.velocities(), f);
+               Nodes elastic = Nodes::Zero(3, s.num_nodes());
+               s.model().add_forces(s.positions(), elastic);
+               f -= elastic;
+             }
+             return Eigen::MatrixXd(f.transpose());
+           })
       .def("energy", [](Simulation& s) { return s.model().energy(s.positions()); })
       .def("kinetic_energy", &Simulation::kinetic_energy)
       .def("stability", [](Simulation& s) { return stability_dict(s.stability()); })
-      .def("estimate_stability", [](Simulation& s, bool bound) { return stability_dict(s.estimate_stability(bound)); },
-           py::arg("bound"))
+      .def(
+          "estimate_stability", [](Simulation& s, bool bound) { return stability_dict(s.estimate_stability(bound)); },
+          py::arg("bound"))
       .def_property_readonly("stats", [](const Simulation& s) { return stats_dict(s.stats()); })
       .def("reset_stats", &Simulation::reset_stats);
 }

@@ -14,7 +14,8 @@ void Material::validate() const {
   }
   if (!std::isfinite(poisson_ratio) || poisson_ratio >= 0.5 || poisson_ratio <= -1.0) {
     msg << "Poisson ratio must lie in (-1, 0.5), got nu = " << poisson_ratio;
-    if (poisson_ratio >= 0.5) msg << " (nu >= 0.5 makes the material incompressible, which this compressible model cannot represent)";
+    if (poisson_ratio >= 0.5)
+      msg << " (nu >= 0.5 makes the material incompressible, which this compressible model cannot represent)";
     fail(msg.str());
   }
   if (!std::isfinite(density) || density <= 0) {

@@ -102,8 +102,8 @@ void Simulation::step(int n) {
       if (Index i = first_non_finite_node(x_next_); i >= 0 || !v_next_.allFinite()) {
         std::ostringstream msg;
         msg << "step " << stats_.steps + 1 << " produced non-finite positions or velocities"
-            << (i >= 0 ? " (first at node " + std::to_string(i) + ")" : "")
-            << "; the state was restored. " << integrator_->non_finite_hint(st);
+            << (i >= 0 ? " (first at node " + std::to_string(i) + ")" : "") << "; the state was restored. "
+            << integrator_->non_finite_hint(st);
         throw SolverFailure(msg.str());
       }
       // Copy, not swap: NumPy views point at x_'s and v_'s buffers and must stay valid.

@@ -75,30 +75,30 @@ inline int run_all(int argc, char** argv) {
 
 }  // namespace test_driver
 
-#define TEST(name)                                                              \
-  static void test_##name();                                                    \
+#define TEST(name)                                                                  \
+  static void test_##name();                                                        \
   static const ::test_driver::Registrar test_registrar_##name(#name, &test_##name); \
   static void test_##name()
 
 // Variadic so that a condition with template commas needs no extra parentheses.
-#define CHECK(...)                                                                           \
-  do {                                                                                       \
+#define CHECK(...)                                                                          \
+  do {                                                                                      \
     if (!(__VA_ARGS__)) ::test_driver::fail(__FILE__, __LINE__, "CHECK(" #__VA_ARGS__ ")"); \
   } while (0)
 
 #define CHECK_NEAR(a, b, tol) ::test_driver::check_near((a), (b), (tol), #a, #b, #tol, __FILE__, __LINE__)
 
-#define CHECK_THROWS(expr, Exception)                                                              \
-  do {                                                                                             \
-    bool test_thrown_ = false;                                                                     \
-    try {                                                                                          \
-      (void)(expr);                                                                                \
-    } catch (const Exception&) {                                                                   \
-      test_thrown_ = true;                                                                         \
-    } catch (...) {                                                                                \
-      test_thrown_ = true;                                                                         \
+#define CHECK_THROWS(expr, Exception)                                                                        \
+  do {                                                                                                       \
+    bool test_thrown_ = false;                                                                               \
+    try {                                                                                                    \
+      (void)(expr);                                                                                          \
+    } catch (const Exception&) {                                                                             \
+      test_thrown_ = true;                                                                                   \
+    } catch (...) {                                                                                          \
+      test_thrown_ = true;                                                                                   \
       ::test_driver::fail(__FILE__, __LINE__, "CHECK_THROWS(" #expr ", " #Exception "): another exception"); \
-    }                                                                                              \
-    if (!test_thrown_)                                                                             \
-      ::test_driver::fail(__FILE__, __LINE__, "CHECK_THROWS(" #expr ", " #Exception "): nothing thrown"); \
+    }                                                                                                        \
+    if (!test_thrown_)                                                                                       \
+      ::test_driver::fail(__FILE__, __LINE__, "CHECK_THROWS(" #expr ", " #Exception "): nothing thrown");    \
   } while (0)

@@ -93,7 +93,8 @@ TEST(exact_tangents_are_minus_the_force_derivative) {
       const double h = 1e-6;
       const Vec fd = -(as_dofs(forces(*model, x + h * d)) - as_dofs(forces(*model, x - h * d))) / (2 * h);
       const Vec Kd = stiffness_times(*model, x, StiffnessKind::Tangent, as_dofs(d));
-      if (!((Kd - fd).norm() <= 1e-6 * fd.norm())) std::printf("    %s on %s: %g\n", name.c_str(), cell.c_str(), (Kd - fd).norm() / fd.norm());
+      if (!((Kd - fd).norm() <= 1e-6 * fd.norm()))
+        std::printf("    %s on %s: %g\n", name.c_str(), cell.c_str(), (Kd - fd).norm() / fd.norm());
       CHECK((Kd - fd).norm() <= 1e-6 * fd.norm());
     }
 }
@@ -115,7 +116,8 @@ TEST(linearised_forces_are_force_minus_model_stiffness_times_step) {
       model->evaluate(x, what, out);
       const Vec expected =
           as_dofs(forces(*model, x)) - stiffness_times(*model, x, StiffnessKind::Model, as_dofs(Nodes(y - x)));
-      if (!((as_dofs(f) - expected).norm() <= 1e-10 * expected.norm())) std::printf("    %s on %s: %g\n", name.c_str(), cell.c_str(), (as_dofs(f) - expected).norm() / expected.norm());
+      if (!((as_dofs(f) - expected).norm() <= 1e-10 * expected.norm()))
+        std::printf("    %s on %s: %g\n", name.c_str(), cell.c_str(), (as_dofs(f) - expected).norm() / expected.norm());
       CHECK((as_dofs(f) - expected).norm() <= 1e-10 * expected.norm());
     }
 }

@@ -30,7 +30,8 @@ double relative_residual(const BlockSparseMatrix& A, const Vec& x, const Vec& b)
 
 TEST(test_system_is_symmetric_positive_definite) {
   const Problem p;
-  CHECK((p.system.dense - p.system.dense.transpose()).cwiseAbs().maxCoeff() <= 1e-15 * p.system.dense.cwiseAbs().maxCoeff());
+  CHECK((p.system.dense - p.system.dense.transpose()).cwiseAbs().maxCoeff() <=
+        1e-15 * p.system.dense.cwiseAbs().maxCoeff());
   CHECK(p.system.dense.llt().info() == Eigen::Success);
   CHECK(p.condition() > 10);  // not trivially easy for CG
 }

@@ -7,9 +7,18 @@ namespace corotate {
 QuadratureRule gauss_cube(int n) {
   std::vector<double> x, w;
   switch (n) {
-    case 1: x = {0.0}; w = {2.0}; break;
-    case 2: x = {-1 / std::sqrt(3.0), 1 / std::sqrt(3.0)}; w = {1.0, 1.0}; break;
-    case 3: x = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}; w = {5.0 / 9, 8.0 / 9, 5.0 / 9}; break;
+    case 1:
+      x = {0.0};
+      w = {2.0};
+      break;
+    case 2:
+      x = {-1 / std::sqrt(3.0), 1 / std::sqrt(3.0)};
+      w = {1.0, 1.0};
+      break;
+    case 3:
+      x = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
+      w = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+      break;
     default: throw InvalidInput("gauss_cube: only 1, 2 or 3 points per direction are provided");
   }
   QuadratureRule rule;

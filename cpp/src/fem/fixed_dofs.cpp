@@ -16,10 +16,8 @@ FixedDofs::FixedDofs(const BlockSparseMatrix& pattern, const std::vector<char>& 
           const bool row_fixed = fixed[3 * i + r], col_fixed = fixed[3 * cols[k] + c];
           if (!row_fixed && !col_fixed) continue;
           const int v = 9 * k + 3 * r + c;
-          if (row_fixed && cols[k] == i && r == c)
-            unit_values_.push_back(v);
-          else
-            zero_values_.push_back(v);
+          if (row_fixed && cols[k] == i && r == c) unit_values_.push_back(v);
+          else zero_values_.push_back(v);
         }
 }
 

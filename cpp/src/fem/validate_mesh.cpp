@@ -1,7 +1,7 @@
+#include "corotate/fem/validate_mesh.hpp"
+
 #include <sstream>
 #include <vector>
-
-#include "corotate/fem/validate_mesh.hpp"
 
 namespace corotate {
 

@@ -55,10 +55,8 @@ void ExplicitIntegrator::restore_state() { estimate_ = saved_estimate_; }
 
 void ExplicitIntegrator::acceleration(const StepInput& in, const Nodes& x, const Nodes& v, Nodes& a) {
   a = in.load;
-  if (const ExplicitTraits* traits = in.model.explicit_traits())
-    traits->add_forces_and_damping(x, v, a);
-  else
-    in.model.add_forces(x, a);
+  if (const ExplicitTraits* traits = in.model.explicit_traits()) traits->add_forces_and_damping(x, v, a);
+  else in.model.add_forces(x, a);
   const double alpha = settings().mass_damping;
   const double* im = inv_mass_.data();
   for (Index i = 0; i < a.cols(); ++i) a.col(i) = im[i] * a.col(i) - alpha * v.col(i);
@@ -71,17 +69,13 @@ StabilityEstimate ExplicitIntegrator::estimate_stability(const StepInput& in, bo
   StabilityEstimate est;
   est.bound = bound && traits;  // models without a configuration-independent bound: the linearised system here
   work_.set_zero();
-  if (est.bound)
-    traits->add_stiffness_bound(1.0, work_);
-  else
-    in.model.add_stiffness(in.x, StiffnessKind::Model, 1.0, work_);
+  if (est.bound) traits->add_stiffness_bound(1.0, work_);
+  else in.model.add_stiffness(in.x, StiffnessKind::Model, 1.0, work_);
   est.stiffness = largest_eigenvalue(work_, inv_sqrt_mass_);
   if (traits && traits->has_damping()) {
     work_.set_zero();
-    if (est.bound)
-      traits->add_damping_bound(1.0, work_);
-    else
-      traits->add_damping_matrix(in.x, 1.0, work_);
+    if (est.bound) traits->add_damping_bound(1.0, work_);
+    else traits->add_damping_matrix(in.x, 1.0, work_);
     est.damping = largest_eigenvalue(work_, inv_sqrt_mass_);
   }
   const double omega_sq = std::max(est.stiffness.value, 0.0);
@@ -97,7 +91,8 @@ const StabilityEstimate& ExplicitIntegrator::stability(const StepInput& in) {
   const bool online = settings().policy == TimeStepPolicy::Online;
   if (online && !estimate_.stale) {
     double moved = 0;  // largest node movement since the last estimate (no allocation)
-    for (Index i = 0; i < in.x.cols(); ++i) moved = std::max(moved, (in.x.col(i) - estimate_.x_at.col(i)).squaredNorm());
+    for (Index i = 0; i < in.x.cols(); ++i)
+      moved = std::max(moved, (in.x.col(i) - estimate_.x_at.col(i)).squaredNorm());
     estimate_.stale = std::sqrt(moved) > online_tolerance_;
   }
   if (estimate_.stale) {

@@ -7,9 +7,9 @@
 namespace corotate {
 
 std::unique_ptr<Integrator> make_linearized_implicit_euler(const IntegratorSettings&);  // linearized_implicit_euler.cpp
-std::unique_ptr<Integrator> make_newton_implicit_euler(const IntegratorSettings&);      // newton_implicit_euler.cpp
-std::unique_ptr<Integrator> make_symplectic_euler(const IntegratorSettings&);           // symplectic_euler.cpp
-std::unique_ptr<Integrator> make_velocity_verlet(const IntegratorSettings&);            // velocity_verlet.cpp
+std::unique_ptr<Integrator> make_newton_implicit_euler(const IntegratorSettings&);  // newton_implicit_euler.cpp
+std::unique_ptr<Integrator> make_symplectic_euler(const IntegratorSettings&);  // symplectic_euler.cpp
+std::unique_ptr<Integrator> make_velocity_verlet(const IntegratorSettings&);  // velocity_verlet.cpp
 
 namespace {
 template <class Enum>
@@ -43,11 +43,15 @@ IntegratorKind integrator_from_name(const std::string& name) {
   return from_name<IntegratorKind>(integrator_names(), name == "velocity_verlet" ? "verlet" : name, "integrator");
 }
 const char* integrator_name(IntegratorKind kind) { return integrator_names()[static_cast<int>(kind)].c_str(); }
-bool is_explicit(IntegratorKind kind) { return kind == IntegratorKind::SymplecticEuler || kind == IntegratorKind::Verlet; }
+bool is_explicit(IntegratorKind kind) {
+  return kind == IntegratorKind::SymplecticEuler || kind == IntegratorKind::Verlet;
+}
 TimeStepPolicy time_step_policy_from_name(const std::string& name) {
   return from_name<TimeStepPolicy>(time_step_policy_names(), name, "time-step policy");
 }
-const char* time_step_policy_name(TimeStepPolicy policy) { return time_step_policy_names()[static_cast<int>(policy)].c_str(); }
+const char* time_step_policy_name(TimeStepPolicy policy) {
+  return time_step_policy_names()[static_cast<int>(policy)].c_str();
+}
 OnUnstable on_unstable_from_name(const std::string& name) {
   return from_name<OnUnstable>(on_unstable_names(), name, "on_unstable");
 }
@@ -59,15 +63,18 @@ void IntegratorSettings::validate() const {
     require(time_step >= 0 && std::isfinite(time_step),
             "time step dt must be positive and finite (or None for the stable step), got " + std::to_string(time_step));
   else
-    require(time_step > 0 && std::isfinite(time_step), "time step must be positive and finite, got dt = " + std::to_string(time_step));
-  require(mass_damping >= 0 && std::isfinite(mass_damping),
-          (explicit_kind ? "mass damping must be >= 0 and finite, got " : "Rayleigh alpha must be >= 0 and finite, got ") +
-              std::to_string(mass_damping));
+    require(time_step > 0 && std::isfinite(time_step),
+            "time step must be positive and finite, got dt = " + std::to_string(time_step));
+  require(
+      mass_damping >= 0 && std::isfinite(mass_damping),
+      (explicit_kind ? "mass damping must be >= 0 and finite, got " : "Rayleigh alpha must be >= 0 and finite, got ") +
+          std::to_string(mass_damping));
   require(stiffness_damping >= 0 && std::isfinite(stiffness_damping),
           "Rayleigh beta must be >= 0 and finite, got " + std::to_string(stiffness_damping));
-  require(stiffness_damping == 0 || kind == IntegratorKind::Linearized,
-          "stiffness-proportional (Rayleigh beta) damping is not a potential: the Newton step supports mass-proportional "
-          "damping (alpha) only, and explicit steps damp through the model (spring dashpots) or mass damping");
+  require(
+      stiffness_damping == 0 || kind == IntegratorKind::Linearized,
+      "stiffness-proportional (Rayleigh beta) damping is not a potential: the Newton step supports mass-proportional "
+      "damping (alpha) only, and explicit steps damp through the model (spring dashpots) or mass damping");
   if (kind == IntegratorKind::Newton) {
     require(newton_iterations >= 1, "newton_iterations must be at least 1, got " + std::to_string(newton_iterations));
     require(newton_tolerance > 0 && std::isfinite(newton_tolerance), "newton_tolerance must be positive");

@@ -104,7 +104,8 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
     if (g_norm <= settings().newton_tolerance * scale) break;
     if (it == settings().newton_iterations) {
       std::ostringstream msg;
-      msg << "Newton step did not converge in " << settings().newton_iterations << " iterations; relative gradient norms:";
+      msg << "Newton step did not converge in " << settings().newton_iterations
+          << " iterations; relative gradient norms:";
       for (double r : stats.newton_residuals) msg << ' ' << r;
       msg << " (a smaller time step, or more iterations, may help)";
       throw SolverFailure(msg.str());

@@ -44,7 +44,8 @@ void ForceModel::check_evaluation(const Nodes& x, const Request& what, const Res
     throw InvalidInput(msg.str());
   };
   if (x.cols() != n) fail("positions have the wrong number of nodes");
-  if (what.forces && (!out.forces || out.forces->cols() != n)) fail("the force buffer is missing or has the wrong size");
+  if (what.forces && (!out.forces || out.forces->cols() != n))
+    fail("the force buffer is missing or has the wrong size");
   if (what.forces_at && what.forces_at->cols() != n) fail("the linearisation point has the wrong number of nodes");
   if (what.forces_at && what.stiffness != StiffnessKind::None && what.stiffness != StiffnessKind::Model)
     fail("linearised forces go with the Model stiffness only");

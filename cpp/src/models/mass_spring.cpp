@@ -42,7 +42,8 @@ MassSpring::MassSpring(const Nodes& rest, std::vector<Spring> springs, const Vec
         msg << "spring " << s << " refers to node " << node << ", out of range [0, " << n << ")";
         throw InvalidInput(msg.str());
       }
-    if (sp.i == sp.j) throw InvalidInput("spring " + std::to_string(s) + " joins node " + std::to_string(sp.i) + " to itself");
+    if (sp.i == sp.j)
+      throw InvalidInput("spring " + std::to_string(s) + " joins node " + std::to_string(sp.i) + " to itself");
     auto check = [&](double value, const char* what) {
       if (!(value >= 0) || !std::isfinite(value)) {
         std::ostringstream msg;

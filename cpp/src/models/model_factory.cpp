@@ -9,7 +9,8 @@ namespace corotate {
 namespace {
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
-  for (size_t i = 0; i < names.size(); ++i) out += (i ? (i + 1 == names.size() ? " or '" : ", '") : "'") + names[i] + "'";
+  for (size_t i = 0; i < names.size(); ++i)
+    out += (i ? (i + 1 == names.size() ? " or '" : ", '") : "'") + names[i] + "'";
   return out;
 }
 }  // namespace
@@ -36,14 +37,16 @@ std::vector<std::string> models_for_cell_type(const std::string& cell_type) {
 }
 
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
-                                       const Connectivity& cells, const Material& material, const ModelOptions& options) {
+                                       const Connectivity& cells, const Material& material,
+                                       const ModelOptions& options) {
   const std::vector<std::string> models = model_names(), available = models_for_cell_type(cell_type);
   if (available.empty())
     throw InvalidInput("unsupported cell type '" + cell_type + "' (supported: " + joined(cell_type_names()) + ")");
   if (std::find(models.begin(), models.end(), model) == models.end())
     throw InvalidInput("unknown model '" + model + "' (choose " + joined(models) + ")");
   if (std::find(available.begin(), available.end(), model) == available.end())
-    throw InvalidInput("model '" + model + "' is not available for " + cell_type + " cells (choose " + joined(available) + ")");
+    throw InvalidInput("model '" + model + "' is not available for " + cell_type + " cells (choose " +
+                       joined(available) + ")");
   std::unique_ptr<ForceModel> built;
   if (model == "linear") built = make_linear_model(cell_type, rest, cells, material, options);
   else if (model == "corotational") built = make_corotational_model(cell_type, rest, cells, material, options);

@@ -43,7 +43,8 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
     if (h00 > 0 && h00 * h11 - h01 * h01 > 0 && det > 0) {
       const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
       w = Vec3(c00 * g.x() + c01 * g.y() + c02 * g.z(), c01 * g.x() + c11 * g.y() + c12 * g.z(),
-               c02 * g.x() + c12 * g.y() + c22 * g.z()) / det;
+               c02 * g.x() + c12 * g.y() + c22 * g.z()) /
+          det;
     } else {
       w = g / (std::abs(trace) + 1e-9);
     }

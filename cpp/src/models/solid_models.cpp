@@ -6,8 +6,9 @@
 
 namespace corotate {
 
-std::unique_ptr<ForceModel> make_linear_model(const std::string& cell_type, const Nodes& rest, const Connectivity& cells,
-                                              const Material& material, const ModelOptions& options) {
+std::unique_ptr<ForceModel> make_linear_model(const std::string& cell_type, const Nodes& rest,
+                                              const Connectivity& cells, const Material& material,
+                                              const ModelOptions& options) {
   std::unique_ptr<ForceModel> model;
   visit_by_name(SolidElements{}, cell_type, [&](auto element) {
     using E = typename decltype(element)::type;

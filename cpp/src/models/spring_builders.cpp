@@ -11,7 +11,8 @@ namespace corotate {
 namespace {
 
 // Hexahedron (VTK order) spring sets: edges, face diagonals, room diagonals.
-constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 constexpr int kHexFaceDiagonals[12][2] = {{0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 5}, {1, 4},
                                           {1, 6}, {2, 5}, {2, 7}, {3, 6}, {3, 4}, {0, 7}};
 constexpr int kHexRoomDiagonals[4][2] = {{0, 6}, {1, 7}, {2, 4}, {3, 5}};
@@ -58,9 +59,12 @@ class SpringAccumulator {
 };
 
 void check_common(double E, double density, double beta) {
-  if (!(E > 0) || !std::isfinite(E)) throw InvalidInput("Young's modulus must be positive and finite, got " + std::to_string(E));
-  if (!(density > 0) || !std::isfinite(density)) throw InvalidInput("density must be positive and finite, got " + std::to_string(density));
-  if (!(beta >= 0) || !std::isfinite(beta)) throw InvalidInput("damping time beta must be >= 0 and finite, got " + std::to_string(beta));
+  if (!(E > 0) || !std::isfinite(E))
+    throw InvalidInput("Young's modulus must be positive and finite, got " + std::to_string(E));
+  if (!(density > 0) || !std::isfinite(density))
+    throw InvalidInput("density must be positive and finite, got " + std::to_string(density));
+  if (!(beta >= 0) || !std::isfinite(beta))
+    throw InvalidInput("damping time beta must be >= 0 and finite, got " + std::to_string(beta));
 }
 
 // Springs and masses of one hexahedron with corner node indices c[0..7] and volume V.
@@ -78,9 +82,12 @@ void add_hex(const int* c, double V, double E, double density, bool diagonals, S
 }  // namespace
 
 SpringSystem cloth_grid(const ClothSettings& s) {
-  if (s.nx < 2 || s.ny < 2) throw InvalidInput("a cloth needs at least 2 x 2 particles, got " + std::to_string(s.nx) + " x " + std::to_string(s.ny));
+  if (s.nx < 2 || s.ny < 2)
+    throw InvalidInput("a cloth needs at least 2 x 2 particles, got " + std::to_string(s.nx) + " x " +
+                       std::to_string(s.ny));
   if (!(s.width > 0) || !(s.height > 0)) throw InvalidInput("cloth width and height must be positive");
-  if (!(s.thickness > 0) || !std::isfinite(s.thickness)) throw InvalidInput("cloth thickness must be positive and finite");
+  if (!(s.thickness > 0) || !std::isfinite(s.thickness))
+    throw InvalidInput("cloth thickness must be positive and finite");
   if (!(s.bending >= 0) || !std::isfinite(s.bending)) throw InvalidInput("cloth bending ratio must be >= 0 and finite");
   check_common(s.youngs_modulus, s.density, s.beta);
   SpringSystem out;
@@ -181,7 +188,8 @@ SpringSystem springs_from_mesh(const Nodes& points, const Connectivity& cells, c
       Eigen::Matrix<double, 3, 8> X;
       for (int a = 0; a < 8; ++a) X.col(a) = points.col(c[a]);
       const auto& rule = Hex8::stiffness_rule();
-      for (size_t q = 0; q < rule.points.size(); ++q) V += rule.weights[q] * (X * Hex8::shape_gradient(rule.points[q])).determinant();
+      for (size_t q = 0; q < rule.points.size(); ++q)
+        V += rule.weights[q] * (X * Hex8::shape_gradient(rule.points[q])).determinant();
     }
     if (!(V > 0)) {
       std::ostringstream msg;
@@ -196,7 +204,8 @@ SpringSystem springs_from_mesh(const Nodes& points, const Connectivity& cells, c
     }
   }
   for (Index i = 0; i < n; ++i)
-    if (out.masses[i] == 0) throw InvalidInput("node " + std::to_string(i) + " belongs to no cell (it would have no mass)");
+    if (out.masses[i] == 0)
+      throw InvalidInput("node " + std::to_string(i) + " belongs to no cell (it would have no mass)");
   acc.finish(beta, out);
   return out;
 }

@@ -39,7 +39,8 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
       }
     permuted.setFromTriplets(t.begin(), t.end());
   }
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>, Eigen::Lower, Eigen::NaturalOrdering<int>> llt(permuted);
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+      llt(permuted);
   if (llt.info() != Eigen::Success) {
     order_.clear();
     throw NotPositiveDefinite("Cholesky factorization failed: the matrix is not positive definite");

@@ -10,8 +10,9 @@ SolveStats DirectSolver::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x)
   }
   ldlt_.factorize(scalar_);
   if (ldlt_.info() != Eigen::Success || (ldlt_.vectorD().array() <= 0).any())
-    throw NotPositiveDefinite("direct solver: the system matrix is not positive definite "
-                        "(an unconstrained body under a static load, or a non-physical material?)");
+    throw NotPositiveDefinite(
+        "direct solver: the system matrix is not positive definite "
+        "(an unconstrained body under a static load, or a non-physical material?)");
   x = ldlt_.solve(b);
   residual_.resize(b.size());
   A.multiply(x, residual_);

@@ -9,13 +9,17 @@ void PCGSettings::validate() const {
   if (!(tolerance > 0) || !std::isfinite(tolerance)) throw InvalidInput("PCG: tolerance must be positive");
 }
 
-PCG::PCG(const PCGSettings& settings) : settings_(settings), preconditioner_(make_preconditioner(settings.preconditioner)) {
+PCG::PCG(const PCGSettings& settings)
+    : settings_(settings), preconditioner_(make_preconditioner(settings.preconditioner)) {
   settings.validate();
 }
 
 SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   const Index n = b.size();
-  r_.resize(n); z_.resize(n); p_.resize(n); q_.resize(n);
+  r_.resize(n);
+  z_.resize(n);
+  p_.resize(n);
+  q_.resize(n);
   if (!settings_.warm_start || x.size() != n) x.setZero(n);
   preconditioner_->compute(A);
 
@@ -39,7 +43,9 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   while (it < settings_.max_iterations) {
     A.multiply(p_, q_);
     const double pq = p_.dot(q_);
-    if (!(pq > 0)) throw NotPositiveDefinite("PCG: the system matrix is not positive definite (p^T A p = " + std::to_string(pq) + ")");
+    if (!(pq > 0))
+      throw NotPositiveDefinite("PCG: the system matrix is not positive definite (p^T A p = " + std::to_string(pq) +
+                                ")");
     const double alpha = rz / pq;
     x.noalias() += alpha * p_;
     r_.noalias() -= alpha * q_;

@@ -9,7 +9,9 @@ void JacobiPreconditioner::compute(const BlockSparseMatrix& A) {
   for (Index i = 0; i < A.num_nodes(); ++i) {
     const auto d = A.block(A.diagonal_block(i)).diagonal();
     for (int r = 0; r < 3; ++r) {
-      if (!(d(r) > 0)) throw NotPositiveDefinite("Jacobi preconditioner: non-positive diagonal entry at DOF " + std::to_string(3 * i + r));
+      if (!(d(r) > 0))
+        throw NotPositiveDefinite("Jacobi preconditioner: non-positive diagonal entry at DOF " +
+                                  std::to_string(3 * i + r));
       inverse_diagonal_(3 * i + r) = 1.0 / d(r);
     }
   }
@@ -21,12 +23,14 @@ void BlockJacobiPreconditioner::compute(const BlockSparseMatrix& A) {
     const Mat3 block = A.block(A.diagonal_block(i));
     bool invertible = false;
     block.computeInverseWithCheck(inverse_blocks_[i], invertible);
-    if (!invertible) throw NotPositiveDefinite("block-Jacobi preconditioner: singular diagonal block at node " + std::to_string(i));
+    if (!invertible)
+      throw NotPositiveDefinite("block-Jacobi preconditioner: singular diagonal block at node " + std::to_string(i));
   }
 }
 
 void BlockJacobiPreconditioner::apply(const Vec& r, Vec& z) {
-  for (size_t i = 0; i < inverse_blocks_.size(); ++i) z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
+  for (size_t i = 0; i < inverse_blocks_.size(); ++i)
+    z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
 }
 
 const std::vector<std::string>& preconditioner_names() {
@@ -38,10 +42,13 @@ PreconditionerKind preconditioner_kind_from_name(const std::string& name) {
   const auto& names = preconditioner_names();
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<PreconditionerKind>(i);
-  throw InvalidInput("unknown preconditioner '" + name + "' (choose none, jacobi, block_jacobi, reference_factor or two_level)");
+  throw InvalidInput("unknown preconditioner '" + name +
+                     "' (choose none, jacobi, block_jacobi, reference_factor or two_level)");
 }
 
-const char* preconditioner_name(PreconditionerKind kind) { return preconditioner_names()[static_cast<int>(kind)].c_str(); }
+const char* preconditioner_name(PreconditionerKind kind) {
+  return preconditioner_names()[static_cast<int>(kind)].c_str();
+}
 
 std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
   switch (kind) {

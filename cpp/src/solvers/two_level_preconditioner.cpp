@@ -61,8 +61,8 @@ std::vector<char> decoupled_dofs(const BlockSparseMatrix& A) {
 void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   const Index n = A0.num_nodes(), dofs = A0.num_dofs();
   if (rest_.cols() != n)
-    throw InvalidInput("the two_level preconditioner needs the rest node positions (geometry) of the " + std::to_string(n) +
-                       "-node system");
+    throw InvalidInput("the two_level preconditioner needs the rest node positions (geometry) of the " +
+                       std::to_string(n) + "-node system");
   int m = 0;
   const std::vector<int> agg = aggregate_nodes(A0, &m);
   const std::vector<char> fixed = decoupled_dofs(A0);

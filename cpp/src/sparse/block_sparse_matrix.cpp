@@ -4,8 +4,7 @@
 
 namespace corotate {
 
-BlockSparseMatrix BlockSparseMatrix::from_pairs(Index num_nodes,
-                                                const std::vector<std::pair<int, int>>& pairs) {
+BlockSparseMatrix BlockSparseMatrix::from_pairs(Index num_nodes, const std::vector<std::pair<int, int>>& pairs) {
   std::vector<std::vector<int>> adjacency(num_nodes);
   for (Index i = 0; i < num_nodes; ++i) adjacency[i].push_back(static_cast<int>(i));
   for (const auto& [i, j] : pairs) {

@@ -53,11 +53,13 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
   for (int s = 1; s <= settings.load_steps; ++s) {
     const double lambda = double(s) / settings.load_steps;
     if (prescribed)
-      for (Index d : fixed.list()) as_dofs(x)[d] = as_dofs(start)[d] + lambda * (as_dofs(*prescribed)[d] - as_dofs(start)[d]);
+      for (Index d : fixed.list())
+        as_dofs(x)[d] = as_dofs(start)[d] + lambda * (as_dofs(*prescribed)[d] - as_dofs(start)[d]);
     auto& history = result.residual_history.emplace_back();
     for (int it = 0;; ++it) {
       const double r_norm = evaluate(x, lambda, StiffnessKind::Tangent);  // exact where the model has it
-      if (!std::isfinite(r_norm)) throw SolverFailure("static solve: the residual became non-finite (elements collapsed?)");
+      if (!std::isfinite(r_norm))
+        throw SolverFailure("static solve: the residual became non-finite (elements collapsed?)");
       if (reference == 0) reference = r_norm > 0 ? r_norm * settings.load_steps : 1.0;
       history.push_back(r_norm / reference);
       if (r_norm <= settings.tolerance * reference) break;

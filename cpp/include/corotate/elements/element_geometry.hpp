@@ -50,8 +50,7 @@ Mat3 checked_jacobian(const ElementNodes<E>& X, const Vec3& xi, Index element) {
     msg << "element " << element << " (" << E::name << ") ";
     if (std::abs(det) <= 1e-10 * extent * extent * extent)
       msg << "has zero volume (degenerate: its nodes are coincident or coplanar)";
-    else
-      msg << "is inverted (negative Jacobian determinant " << det << "; check the node ordering)";
+    else msg << "is inverted (negative Jacobian determinant " << det << "; check the node ordering)";
     throw InvalidInput(msg.str());
   }
   return J;

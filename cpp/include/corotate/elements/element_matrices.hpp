@@ -32,9 +32,12 @@ Eigen::Matrix<double, 6, 3 * N> strain_displacement(const Eigen::Matrix<double, 
     B(0, 3 * a) = gx;
     B(1, 3 * a + 1) = gy;
     B(2, 3 * a + 2) = gz;
-    B(3, 3 * a + 1) = gz; B(3, 3 * a + 2) = gy;
-    B(4, 3 * a) = gz;     B(4, 3 * a + 2) = gx;
-    B(5, 3 * a) = gy;     B(5, 3 * a + 1) = gx;
+    B(3, 3 * a + 1) = gz;
+    B(3, 3 * a + 2) = gy;
+    B(4, 3 * a) = gz;
+    B(4, 3 * a + 2) = gx;
+    B(5, 3 * a) = gy;
+    B(5, 3 * a + 1) = gx;
   }
   return B;
 }

@@ -16,10 +16,10 @@ struct Hex20 {
   using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;
 
   static Vec3 node(int a) {
-    static const double s[20][3] = {
-        {-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1},
-        {-1, 1, 1},   {0, -1, -1}, {1, 0, -1}, {0, 1, -1},  {-1, 0, -1}, {0, -1, 1}, {1, 0, 1},
-        {0, 1, 1},    {-1, 0, 1},  {-1, -1, 0}, {1, -1, 0}, {1, 1, 0},   {-1, 1, 0}};
+    static const double s[20][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1},
+                                    {1, -1, 1},   {1, 1, 1},   {-1, 1, 1}, {0, -1, -1}, {1, 0, -1},
+                                    {0, 1, -1},   {-1, 0, -1}, {0, -1, 1}, {1, 0, 1},   {0, 1, 1},
+                                    {-1, 0, 1},   {-1, -1, 0}, {1, -1, 0}, {1, 1, 0},   {-1, 1, 0}};
     return Vec3(s[a][0], s[a][1], s[a][2]);
   }
 
@@ -52,11 +52,25 @@ struct Hex20 {
       if (g) g->row(a) = grad.transpose();
     }
   }
-  static ShapeValues shape(const Vec3& xi) { ShapeValues n; evaluate(xi, &n, nullptr); return n; }
-  static ShapeGradient shape_gradient(const Vec3& xi) { ShapeGradient g; evaluate(xi, nullptr, &g); return g; }
+  static ShapeValues shape(const Vec3& xi) {
+    ShapeValues n;
+    evaluate(xi, &n, nullptr);
+    return n;
+  }
+  static ShapeGradient shape_gradient(const Vec3& xi) {
+    ShapeGradient g;
+    evaluate(xi, nullptr, &g);
+    return g;
+  }
   static Vec3 centre() { return Vec3::Zero(); }
-  static const QuadratureRule& stiffness_rule() { static const auto r = gauss_cube(3); return r; }
-  static const QuadratureRule& mass_rule() { static const auto r = gauss_cube(3); return r; }
+  static const QuadratureRule& stiffness_rule() {
+    static const auto r = gauss_cube(3);
+    return r;
+  }
+  static const QuadratureRule& mass_rule() {
+    static const auto r = gauss_cube(3);
+    return r;
+  }
 };
 
 }  // namespace corotate

@@ -37,8 +37,14 @@ struct Hex8 {
     return g;
   }
   static Vec3 centre() { return Vec3::Zero(); }
-  static const QuadratureRule& stiffness_rule() { static const auto r = gauss_cube(2); return r; }
-  static const QuadratureRule& mass_rule() { static const auto r = gauss_cube(2); return r; }
+  static const QuadratureRule& stiffness_rule() {
+    static const auto r = gauss_cube(2);
+    return r;
+  }
+  static const QuadratureRule& mass_rule() {
+    static const auto r = gauss_cube(2);
+    return r;
+  }
 };
 
 }  // namespace corotate

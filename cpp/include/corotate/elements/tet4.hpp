@@ -14,9 +14,7 @@ struct Tet4 {
   using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
   using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;  // row a = dN_a/dxi
 
-  static ShapeValues shape(const Vec3& xi) {
-    return ShapeValues(1 - xi.sum(), xi.x(), xi.y(), xi.z());
-  }
+  static ShapeValues shape(const Vec3& xi) { return ShapeValues(1 - xi.sum(), xi.x(), xi.y(), xi.z()); }
   static ShapeGradient shape_gradient(const Vec3&) {
     ShapeGradient g;
     g << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1;
@@ -24,8 +22,14 @@ struct Tet4 {
   }
   static Vec3 centre() { return Vec3::Constant(0.25); }
   // B is constant on a linear tet, so one point integrates K exactly; M is quadratic.
-  static const QuadratureRule& stiffness_rule() { static const auto r = tet_centroid_rule(); return r; }
-  static const QuadratureRule& mass_rule() { static const auto r = tet_degree2_rule(); return r; }
+  static const QuadratureRule& stiffness_rule() {
+    static const auto r = tet_centroid_rule();
+    return r;
+  }
+  static const QuadratureRule& mass_rule() {
+    static const auto r = tet_degree2_rule();
+    return r;
+  }
 };
 
 }  // namespace corotate

@@ -35,7 +35,8 @@ struct Tri3 {
     const double extent = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).maxCoeff();
     if (!(n.norm() > 1e-10 * extent * extent)) {
       std::ostringstream msg;
-      msg << "element " << element << " (" << name << ") has zero area (degenerate: its nodes are coincident or collinear)";
+      msg << "element " << element << " (" << name
+          << ") has zero area (degenerate: its nodes are coincident or collinear)";
       throw InvalidInput(msg.str());
     }
     const Vec3 e1 = d1.normalized(), e2 = n.normalized().cross(e1);
@@ -47,7 +48,9 @@ struct Tri3 {
   }
 
   // Consistent mass of a linear triangle of mass m: m/12 (1 + delta_ab); lumped: m/3 each.
-  static Eigen::Matrix3d consistent_mass(double m) { return (m / 12) * (Eigen::Matrix3d::Ones() + Eigen::Matrix3d::Identity()); }
+  static Eigen::Matrix3d consistent_mass(double m) {
+    return (m / 12) * (Eigen::Matrix3d::Ones() + Eigen::Matrix3d::Identity());
+  }
   static Vec3 lumped_mass(double m) { return Vec3::Constant(m / 3); }
 };
 

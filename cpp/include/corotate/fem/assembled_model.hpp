@@ -86,7 +86,8 @@ class AssembledModel final : public ForceModel {
   // Lower blocks (a > b) from the upper ones, for what reads the whole matrix.
   static void mirror_upper_blocks(Stiffness& Ke) {
     for (int a = 1; a < N; ++a)
-      for (int b = 0; b < a; ++b) Ke.template block<3, 3>(3 * a, 3 * b) = Ke.template block<3, 3>(3 * b, 3 * a).transpose();
+      for (int b = 0; b < a; ++b)
+        Ke.template block<3, 3>(3 * a, 3 * b) = Ke.template block<3, 3>(3 * b, 3 * a).transpose();
   }
   void evaluate_constant(const Nodes& x, const Request& what, Results& out);
 
@@ -111,7 +112,8 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
   if constexpr (ElementType::dim == 2) {
     if (!std::isfinite(options.thickness) || options.thickness <= 0) {
       std::ostringstream msg;
-      msg << "thickness of the " << ElementType::name << " sheet must be positive and finite, got " << options.thickness;
+      msg << "thickness of the " << ElementType::name << " sheet must be positive and finite, got "
+          << options.thickness;
       throw InvalidInput(msg.str());
     }
   }
@@ -210,7 +212,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
           kernel_.geometric_stiffness(el, xe, k, e);
           const int* ids = block_ids_.data() + e * N * N;
           for (int a = 0; a < N; ++a)
-            for (int b = 0; b < N; ++b) out.stiffness->block(ids[a * N + b]).diagonal().array() += what.stiffness_scale * k(a, b);
+            for (int b = 0; b < N; ++b)
+              out.stiffness->block(ids[a * N + b]).diagonal().array() += what.stiffness_scale * k(a, b);
         }
       }
       if (what.forces) {

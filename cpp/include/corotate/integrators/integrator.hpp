@@ -97,7 +97,9 @@ class Integrator {
   virtual void save_state() {}
   virtual void restore_state() {}
   // What to tell a user whose step st produced non-finite values.
-  virtual std::string non_finite_hint(const StepStats&) const { return "Is the time step too large or the mesh inverted?"; }
+  virtual std::string non_finite_hint(const StepStats&) const {
+    return "Is the time step too large or the mesh inverted?";
+  }
   // The explicit integrators' stability interface; nullptr for implicit ones.
   virtual ExplicitIntegrator* as_explicit() { return nullptr; }
 

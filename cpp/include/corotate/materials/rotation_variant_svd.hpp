@@ -21,8 +21,14 @@ struct RotationVariantSVD {
     V = svd.matrixV();
     sigma = svd.singularValues();  // descending, >= 0
     // Move reflections into the smallest singular value.
-    if (U.determinant() < 0) { U.col(2) *= -1; sigma(2) *= -1; }
-    if (V.determinant() < 0) { V.col(2) *= -1; sigma(2) *= -1; }
+    if (U.determinant() < 0) {
+      U.col(2) *= -1;
+      sigma(2) *= -1;
+    }
+    if (V.determinant() < 0) {
+      V.col(2) *= -1;
+      sigma(2) *= -1;
+    }
   }
 
   Mat3 rotation() const { return U * V.transpose(); }

@@ -21,8 +21,8 @@ Eigen::Matrix<double, 3, D> deformation_gradient(const Eigen::Matrix<double, 3, 
 
 // fe -= w P G^T (fe: 3 x N element forces).
 template <class Law, int N, int D>
-void add_point_forces(const Law& law, const Eigen::Matrix<double, 3, D>& F, const Eigen::Matrix<double, N, D>& G, double w,
-                      Eigen::Matrix<double, 3, N>& fe) {
+void add_point_forces(const Law& law, const Eigen::Matrix<double, 3, D>& F, const Eigen::Matrix<double, N, D>& G,
+                      double w, Eigen::Matrix<double, 3, N>& fe) {
   const Eigen::Matrix<double, 3, D> P = law.stress(F);
   fe.noalias() -= (w * P) * G.transpose();
 }
@@ -42,7 +42,8 @@ void add_point_stiffness(const Law& law, const Eigen::Matrix<double, 3, D>& F, c
     }
   // Ke rows 3a..3a+2 += w sum_j G(a, j) AG rows 3j..3j+2.
   for (int a = 0; a < N; ++a)
-    for (int j = 0; j < D; ++j) Ke.template middleRows<3>(3 * a).noalias() += (w * G(a, j)) * AG.template middleRows<3>(3 * j);
+    for (int j = 0; j < D; ++j)
+      Ke.template middleRows<3>(3 * a).noalias() += (w * G(a, j)) * AG.template middleRows<3>(3 * j);
 }
 
 // Initial-stress (geometric) stiffness of one point: block (a, b) += w (G_a^T S G_b) I_3,

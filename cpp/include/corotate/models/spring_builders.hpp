@@ -41,24 +41,24 @@ namespace corotate {
 struct SpringSystem {
   Nodes nodes;                   // 3 x n rest positions
   std::vector<Spring> springs;   // with k, d and l0 (= rest distance) set
-  std::vector<int> kinds;        // per spring: 0 structural / edge, 1 shear / face diagonal, 2 bending / room diagonal
-  Vec masses;                    // n point masses [kg]
-  Connectivity cells;            // display cells, one row per cell
-  std::string cell_type;         // "quad", "hexahedron" or "tetra" (meshio names)
+  std::vector<int> kinds;  // per spring: 0 structural / edge, 1 shear / face diagonal, 2 bending / room diagonal
+  Vec masses;  // n point masses [kg]
+  Connectivity cells;  // display cells, one row per cell
+  std::string cell_type;  // "quad", "hexahedron" or "tetra" (meshio names)
 };
 
 struct ClothSettings {
-  int nx = 32, ny = 32;               // particles along x and y (>= 2 each)
-  double width = 1.0, height = 1.0;   // extent in x and y [m]; the cloth lies in z = 0
-  double youngs_modulus = 1e6;        // E [Pa]
-  double thickness = 1e-3;            // t [m]
-  double density = 1000.0;            // [kg/m^3]
-  double bending = 0.01;              // k_bend / (E t); 0 = no bending springs
-  double beta = 0.0;                  // damping time [s]: d = beta k
+  int nx = 32, ny = 32;  // particles along x and y (>= 2 each)
+  double width = 1.0, height = 1.0;  // extent in x and y [m]; the cloth lies in z = 0
+  double youngs_modulus = 1e6;  // E [Pa]
+  double thickness = 1e-3;  // t [m]
+  double density = 1000.0;  // [kg/m^3]
+  double bending = 0.01;  // k_bend / (E t); 0 = no bending springs
+  double beta = 0.0;  // damping time [s]: d = beta k
 };
 
 struct LatticeSettings {
-  int nx = 4, ny = 4, nz = 4;                 // cubes along x, y, z (>= 1 each)
+  int nx = 4, ny = 4, nz = 4;  // cubes along x, y, z (>= 1 each)
   double size_x = 1.0, size_y = 1.0, size_z = 1.0;  // extent [m], from the origin
   double youngs_modulus = 1e6, density = 1000.0, beta = 0.0;
 };

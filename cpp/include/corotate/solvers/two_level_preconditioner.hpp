@@ -22,7 +22,10 @@ class TwoLevelPreconditioner final : public Preconditioner {
  public:
   void reset() override { ready_ = false; }
   // Rest positions (3 x n): the rotation modes of each aggregate are built from them.
-  void set_geometry(const Nodes& rest) override { rest_ = rest; ready_ = false; }
+  void set_geometry(const Nodes& rest) override {
+    rest_ = rest;
+    ready_ = false;
+  }
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
   Index coarse_size() const { return coarse_.rows(); }
