@@ -18,6 +18,7 @@ import corotate._core as _core
 
 from .body import Body
 from .explicit import ExplicitSimulation
+from .feedback import HapticFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
 from .mesh import Mesh, beam, box, read_mesh, rectangle, write_mesh
@@ -41,5 +42,6 @@ __all__ = [
     "MassSpringBody",
     "SpringGeometry",
     "ExplicitSimulation",
+    "HapticFeedback",
 ]
 __version__: str = _core.__version__  # from the VERSION file, through CMake

@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -380,6 +380,24 @@ class Simulation:
     @property
     def velocities(self) -> numpy.ndarray:
         ...
+class HapticFeedback:
+    def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: Material, tool: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], method: str, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
+        """
+        Force feedback at the tool nodes from the elements that touch them (see feedback/haptic_feedback.hpp).
+        """
+    def query(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        (forces (k, 3): the force the body exerts on each tool node, stiffness (3k, 3k): dF/dx) at positions (n, 3).
+        """
+    @property
+    def method(self) -> str:
+        ...
+    @property
+    def num_elements(self) -> int:
+        ...
+    @property
+    def tool(self) -> list[int]:
+        ...
 class MassSpring(ForceModel):
     def __init__(self, nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], springs: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], damping: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], rest_lengths: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], masses: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:
         """
@@ -424,6 +442,10 @@ def explicit_integrator_names() -> list[str]:
 def extract_rotation(F: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
     """
     Rotation of F by the warm-startable iteration, started from the identity.
+    """
+def feedback_method_names() -> list[str]:
+    """
+    Every feedback method name.
     """
 def integrator_names() -> list[str]:
     """

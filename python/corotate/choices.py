@@ -16,6 +16,7 @@ ExplicitIntegratorName = Literal["symplectic_euler", "verlet"]
 TimeStepPolicyName = Literal["fixed", "online"]
 OnUnstableName = Literal["substep", "raise", "allow"]
 MassKind = Literal["consistent", "lumped"]
+FeedbackMethod = Literal["linear", "corotational", "averaged"]
 
 MODELS: tuple[str, ...] = tuple(_core.model_names())
 CELL_TYPES: tuple[str, ...] = tuple(_core.cell_type_names())
@@ -25,6 +26,7 @@ IMPLICIT_INTEGRATORS: tuple[str, ...] = tuple(n for n in _core.integrator_names(
 TIME_STEP_POLICIES: tuple[str, ...] = tuple(_core.time_step_policy_names())
 ON_UNSTABLE: tuple[str, ...] = tuple(_core.on_unstable_names())
 MASS_KINDS: tuple[str, ...] = ("consistent", "lumped")
+FEEDBACK_METHODS: tuple[str, ...] = tuple(_core.feedback_method_names())
 
 
 def check_choice(value: object, choices: tuple[str, ...], what: str) -> str:
