@@ -16,6 +16,7 @@
 #include "corotate/simulation.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
+#include "feedback_scenario.hpp"
 #include "mass_spring_scenario.hpp"
 
 using namespace corotate;
@@ -147,6 +148,9 @@ void usage() {
       "  --scenario mass_spring [--frames N] [--integrator I]\n"
       "                      (first option) explicit mass-spring cloth and lattices instead; see\n"
       "                      bench/mass_spring_scenario.hpp\n"
+      "  --scenario feedback [--queries N] [--tool K]\n"
+      "                      (first option) one haptic feedback query per method on a 10,290-tet\n"
+      "                      beam; see bench/feedback_scenario.hpp\n"
       "Each mesh first runs 'reference' (two-level PCG to 1e-10) so deviations are measured honestly.");
 }
 
@@ -158,8 +162,9 @@ int main(int argc, char** argv) {
     // --scenario mass_spring: the explicit mass-spring benchmark (mass_spring_scenario.hpp).
     if (argc >= 3 && std::string(argv[1]) == "--scenario") {
       if (std::string(argv[2]) == "mass_spring") return bench::mass_spring_main(argc - 3, argv + 3);
+      if (std::string(argv[2]) == "feedback") return bench::feedback_main(argc - 3, argv + 3);
       if (std::string(argv[2]) != "beam")
-        throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring)");
+        throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring, feedback)");
       argc -= 2, argv += 2;
     }
     for (int a = 1; a < argc; ++a) {
