@@ -136,6 +136,8 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly(
           "external_forces",
           [](py::object self) { return node_view(self.cast<Simulation&>().external_forces(), self); })
+      .def_property_readonly("accelerations",
+                             [](const Simulation& s) { return Eigen::MatrixXd(s.accelerations().transpose()); })
       .def_property_readonly("gravity_forces",
                              [](const Simulation& s) { return Eigen::MatrixXd(s.gravity_forces().transpose()); })
       .def_property_readonly("time", &Simulation::time)
@@ -188,6 +190,9 @@ void bind_simulation(py::module_& m) {
            })
       .def("energy", [](Simulation& s) { return s.model().energy(s.positions()); })
       .def("kinetic_energy", &Simulation::kinetic_energy)
+      .def(
+          "mass_csr", [](const Simulation& s) { return to_csr(s.mass()); },
+          "The integrator's mass matrix as a CSR triple.")
       .def("stability", [](Simulation& s) { return stability_dict(s.stability()); })
       .def(
           "estimate_stability", [](Simulation& s, bool bound) { return stability_dict(s.estimate_stability(bound)); },

@@ -18,6 +18,7 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettin
   x_ = model_->rest_positions();
   const Index n = model_->num_nodes();
   v_.setZero(3, n);
+  a_.setZero(3, n);
   f_ext_.setZero(3, n);
   load_.setZero(3, n);
   x_next_.setZero(3, n);
@@ -90,6 +91,7 @@ void Simulation::step(int n) {
   check_finite_state(x_, v_, f_ext_);
   x_backup_ = x_;  // restored if any of the n steps fails (no allocation after the first call)
   v_backup_ = v_;
+  a_backup_ = a_;
   const double time_before = time_;
   const SimulationStats stats_before = stats_;
   integrator_->save_state();
@@ -108,6 +110,7 @@ void Simulation::step(int n) {
       }
       // Copy, not swap: NumPy views point at x_'s and v_'s buffers and must stay valid.
       x_ = x_next_;
+      a_ = (v_next_ - v_) / st.dt;
       v_ = v_next_;
       time_ += st.dt;
       ++stats_.steps;
@@ -121,6 +124,7 @@ void Simulation::step(int n) {
   } catch (...) {
     x_ = x_backup_;
     v_ = v_backup_;
+    a_ = a_backup_;
     time_ = time_before;
     stats_ = stats_before;
     integrator_->restore_state();

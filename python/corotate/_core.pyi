@@ -337,6 +337,10 @@ class Simulation:
         ...
     def kinetic_energy(self) -> float:
         ...
+    def mass_csr(self) -> tuple:
+        """
+        The integrator's mass matrix as a CSR triple.
+        """
     def reset_stats(self) -> None:
         ...
     def set_solver(self, solver: str, pcg: PCGSettings = ...) -> None:
@@ -346,6 +350,9 @@ class Simulation:
     def stability(self) -> dict:
         ...
     def step(self, n: typing.SupportsInt | typing.SupportsIndex = 1) -> None:
+        ...
+    @property
+    def accelerations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
     @property
     def external_forces(self) -> numpy.ndarray:

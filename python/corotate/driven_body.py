@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import scipy.sparse as sp
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -14,7 +15,7 @@ class DrivenBody:
     """Base of Simulation and ExplicitSimulation. Subclasses set ``self._sim`` (the C++
     simulation), ``self.body`` and ``self._rest`` ((n, 3) rest positions)."""
 
-    _sim: Any  # corotate._core.Simulation or corotate._core.ExplicitSimulation
+    _sim: Any  # corotate._core.Simulation
     body: Any  # Body or MassSpringBody
     _rest: np.ndarray
 
@@ -32,6 +33,22 @@ class DrivenBody:
     def external_forces(self) -> np.ndarray:
         """(n, 3) external nodal forces [N], kept between steps (a writable view)."""
         return self._sim.external_forces
+
+    @property
+    def accelerations(self) -> np.ndarray:
+        """(n, 3) (v_new - v_old) / dt of the last step (zero before the first; a new array)."""
+        return self._sim.accelerations
+
+    @property
+    def gravity_forces(self) -> np.ndarray:
+        """(n, 3) the nodal forces of gravity, M g with the simulation's mass (a new array)."""
+        return self._sim.gravity_forces
+
+    def mass_matrix(self) -> sp.csr_matrix:
+        """The mass matrix the integrator uses (3n x 3n; lumped for explicit integrators)."""
+        data, indices, indptr = self._sim.mass_csr()
+        n = 3 * len(self._rest)
+        return sp.csr_matrix((data, indices, indptr), shape=(n, n))
 
     @property
     def displacements(self) -> np.ndarray:

@@ -26,6 +26,7 @@ import corotate._core as _core
 
 from .body import Body
 from .choices import FEEDBACK_METHODS, FeedbackMethod, check_choice
+from .driven_body import DrivenBody
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -88,6 +89,20 @@ class HapticFeedback:
             raise ValueError(f"positions must have shape ({self.body.n_nodes}, 3), got {x.shape}")
         forces, stiffness = self._core.query(x)
         return np.asarray(forces), np.asarray(stiffness)
+
+    def reaction_forces(self, sim: DrivenBody) -> np.ndarray:
+        """(k, 3) the force the body of `sim` exerts on each tool node at its current state,
+        inertia included: f_int + f_ext + M g - (M a) on the tool's rows, with f_int from the
+        tool's elements (this feedback's method), a the last step's acceleration and M the
+        simulation's mass. In statics (a = 0) the supports' reactions; in dynamics, by momentum
+        balance, what holds the tool on its prescribed motion."""
+        if not isinstance(sim, DrivenBody) or sim.body is not self.body:
+            raise ValueError("sim must be a simulation of this feedback's body")
+        forces, _ = self.query(sim.positions)
+        tool = self.tool
+        dofs = (3 * tool[:, None] + np.arange(3)).ravel()
+        inertia = (sim.mass_matrix()[dofs] @ sim.accelerations.ravel()).reshape(-1, 3)
+        return forces + sim.external_forces[tool] + sim.gravity_forces[tool] - inertia
 
     def total_force(self, positions: ArrayLike) -> np.ndarray:
         """(3,) the resultant force the body exerts on the tool."""

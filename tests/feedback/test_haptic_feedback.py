@@ -102,3 +102,27 @@ def test_bad_input():
     with pytest.raises(ValueError, match="not finite"):
         fb.query(x)
     assert _core.feedback_method_names() == ["linear", "corotational", "averaged"]
+
+
+def test_reaction_forces_balance_momentum_in_dynamics():
+    """A cantilever swinging under gravity, stepped by Newton (so M a = f_int + f_ext holds on
+    the free DOFs at the end of each step): the forces the body exerts on its clamped nodes
+    add up to the body's weight minus the rate of change of its momentum,
+        sum over clamped (f_int + M g - M a) = sum over all (M g - M a),
+    because the internal forces sum to zero; and they come from the clamp's elements only."""
+    mesh = cr.beam(2.0, 0.4, 0.4, cells=(8, 2, 2), element="tet4")
+    body = cr.Body(mesh, MAT)
+    sim = cr.Simulation(body, dt=0.02, gravity=(0, 0, -9.81), integrator="newton", newton_tolerance=1e-10)
+    clamp = mesh.nodes_on_plane("x", 0.0)
+    sim.fix(clamp)
+    fb = cr.HapticFeedback(body, clamp, "corotational")
+    M = sim.mass_matrix()
+    for _ in range(5):
+        sim.step()
+        reaction = fb.reaction_forces(sim).sum(axis=0)
+        momentum_rate = (M @ sim.accelerations.ravel()).reshape(-1, 3).sum(axis=0)
+        expected = sim.gravity_forces.sum(axis=0) - momentum_rate
+        np.testing.assert_allclose(reaction, expected, rtol=0, atol=1e-6 * np.abs(sim.gravity_forces).sum())
+        assert np.abs(momentum_rate).max() > 1e-2 * np.abs(expected).max()  # truly dynamic
+    with pytest.raises(ValueError, match="simulation of this feedback's body"):
+        fb.reaction_forces(cr.Simulation(cr.Body(mesh, MAT)))

@@ -45,6 +45,10 @@ class Simulation {
   Nodes& positions() { return x_; }
   Nodes& velocities() { return v_; }
   Nodes& external_forces() { return f_ext_; }
+  // (v_new - v_old) / dt of the last step (3 x n; zero before the first): with the Newton
+  // integrator M a = f_int(x) + f_ext holds on the free DOFs, so on fixed ones
+  // f_int + f_ext - M a is the force the body exerts on its supports.
+  const Nodes& accelerations() const { return a_; }
   double time() const { return time_; }
 
   void set_gravity(const Vec3& g);
@@ -90,7 +94,7 @@ class Simulation {
   std::unique_ptr<ForceModel> model_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<LinearSolver> solver_;
-  Nodes x_, v_, f_ext_, gravity_forces_, load_, x_next_, v_next_, x_backup_, v_backup_;
+  Nodes x_, v_, a_, f_ext_, gravity_forces_, load_, x_next_, v_next_, x_backup_, v_backup_, a_backup_;
   Vec3 gravity_ = Vec3::Zero();
   std::vector<Index> fixed_nodes_;
   FixedDofs fixed_;
