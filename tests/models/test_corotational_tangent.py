@@ -41,10 +41,40 @@ def test_tangent_equals_stiffness_where_the_rotation_terms_vanish():
     body = cr.Body(mesh, MAT, model="corotational")
     # at rest, and under a pure rigid rotation, the stress is zero and so are the extra terms
     np.testing.assert_allclose(body.tangent_matrix().toarray(), body.stiffness_matrix().toarray(), atol=1e-8)
-    hexes = cr.Body(cr.box((1.0, 1.0, 1.0), (2, 2, 2), "hex8"), MAT, model="corotational")
-    x = deformed(hexes.mesh)
-    Kh = hexes.stiffness_matrix(x).toarray()
-    np.testing.assert_allclose(hexes.tangent_matrix(x).toarray(), Kh, rtol=0, atol=1e-12 * np.abs(Kh).max())
+    for element in ("hex8", "hex20"):
+        hexes = cr.Body(cr.box((1.0, 1.0, 1.0), (2, 1, 1), element), MAT, model="corotational")
+        R = rotation(0.9, (1.0, 2.0, 3.0))
+        for x in (hexes.mesh.points, hexes.mesh.points @ R.T + (0.3, -0.2, 0.1)):
+            Kh = hexes.stiffness_matrix(x).toarray()
+            np.testing.assert_allclose(hexes.tangent_matrix(x).toarray(), Kh, rtol=0, atol=1e-9 * np.abs(Kh).max())
+
+
+def rotation(angle, axis):
+    """Rotation matrix about axis (Rodrigues)."""
+    k = np.asarray(axis, float) / np.linalg.norm(axis)
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+def test_hex_tangent_equals_the_derivative_of_the_forces_and_is_not_symmetric():
+    # The co-rotated hex force -R K_e (R^T x - X), R the polar rotation at the centre, is not
+    # a gradient, so its exact tangent is not symmetric; the assembled matrix keeps both halves.
+    for element in ("hex8", "hex20"):
+        mesh = cr.box((1.0, 1.0, 1.0), (2, 1, 1), element)
+        body = cr.Body(mesh, MAT, model="corotational")
+        x = deformed(mesh, seed=1)
+        K = body.tangent_matrix(x).toarray()
+        h = 1e-6
+        fd = np.empty_like(K)
+        for d in range(x.size):
+            xp, xm = x.copy(), x.copy()
+            xp.flat[d] += h
+            xm.flat[d] -= h
+            fd[:, d] = -(body.internal_forces(xp) - body.internal_forces(xm)).ravel() / (2 * h)
+        scale = np.abs(K).max()
+        assert np.abs(K - fd).max() < 1e-6 * scale, element
+        assert np.abs(K - K.T).max() > 1e-3 * scale, element
+        assert np.abs(body.stiffness_matrix(x).toarray() - fd).max() > 1e-3 * scale, element
 
 
 def test_static_newton_converges_quadratically_for_corotated_tets():

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "corotate/integrators/implicit_integrator.hpp"
+#include "corotate/solvers/lu_solver.hpp"
 
 namespace corotate {
 
@@ -19,6 +20,7 @@ class NewtonImplicitEuler final : public ImplicitIntegrator {
     ImplicitIntegrator::attach(model);
     target_.setZero(3, model.num_nodes());
     x_.setZero(3, model.num_nodes());
+    lu_.reset();
   }
 
   StepStats step(const StepInput& in, Nodes& x_new, Nodes& v_new) override;
@@ -32,6 +34,7 @@ class NewtonImplicitEuler final : public ImplicitIntegrator {
 
   Nodes target_;  // x_n + dt v_n
   Nodes x_;       // the current iterate
+  LuSolver lu_;   // for a non-symmetric tangent (co-rotated hexes)
 };
 
 double NewtonImplicitEuler::incremental_potential(const StepInput& in, const Nodes& y) {
@@ -113,10 +116,18 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
     in.fixed.project(system_);
     dv_.setZero();  // the Newton increment; no warm start across iterations
     SolveStats solve;
+    bool solved = false;
     try {
-      solve = in.solver.solve(system_, rhs_, dv_);
+      // A non-symmetric tangent (ForceModel::symmetric_tangent) by sparse LU, else the
+      // step's solver.
+      solve = in.model.symmetric_tangent() ? in.solver.solve(system_, rhs_, dv_) : lu_.solve(system_, rhs_, dv_);
+      solved = true;
     } catch (const NotPositiveDefinite&) {
-      // An indefinite exact tangent: the model's positive semi-definite stiffness instead.
+    } catch (const SolverFailure&) {
+      if (in.model.symmetric_tangent()) throw;  // only a singular LU falls back
+    }
+    if (!solved) {
+      // An indefinite (or singular) exact tangent: the model's positive semi-definite stiffness.
       gradient_and_hessian(in, x_, StiffnessKind::Model);
       in.fixed.project(system_);
       dv_.setZero();
@@ -130,11 +141,22 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
     // Backtracking line search on Phi (Armijo, sufficient decrease 1e-4). Near the solution
     // the decrease a step promises falls below the round-off of Phi itself; a slack of
     // 1e-12 |Phi| lets those last, quadratically converging steps through.
+    // A model whose forces are not the gradient of its energy (a non-symmetric tangent:
+    // co-rotated hexes) has no Phi to descend on; the merit is then |g|^2, for which the
+    // exact Newton direction is a descent direction (d/dt |g(x + t dx)|^2 = -2 |g|^2 at t = 0):
+    // Armijo on it with the same constant.
+    const bool potential = in.model.symmetric_tangent();
     const double slope = -rhs_.dot(dv_);  // g . dx
     const double slack = 1e-12 * std::abs(phi);
     double step = 1.0, phi_trial = phi;
     for (int ls = 0; ls < 30; ++ls, step *= 0.5) {
       as_dofs(y_) = as_dofs(x_) + step * dv_;
+      if (!potential) {
+        gradient_and_hessian(in, y_, StiffnessKind::None);  // rhs_ is recomputed at x_ next
+        phi_trial = rhs_.squaredNorm();
+        if (std::isfinite(phi_trial) && phi_trial <= (1 - 2e-4 * step) * g_norm * g_norm) break;
+        continue;
+      }
       phi_trial = incremental_potential(in, y_);
       if (std::isfinite(phi_trial) && (slope >= 0 || phi_trial <= phi + 1e-4 * step * slope + slack)) break;
     }

@@ -8,7 +8,8 @@
 // 3x3 blocks in the value array, so assembly is a scatter-add with no search and no
 // allocation. Element stiffness matrices are symmetric: kernels fill the upper blocks, which
 // are added and mirrored, and the diagonal blocks are symmetrised, so the assembled matrix is
-// exactly symmetric.
+// exactly symmetric. The one exception is the Tangent of a kernel that declares
+// symmetric_tangent = false (co-rotated hexes): its N x N blocks are added as they are.
 #pragma once
 
 #include <sstream>
@@ -44,6 +45,7 @@ class AssembledModel final : public ForceModel {
   const BlockSparseMatrix& pattern() const override { return pattern_; }
   BlockSparseMatrix mass_matrix(bool lumped) const override;
   bool is_linear() const override { return Kernel::constant_stiffness; }
+  bool symmetric_tangent() const override { return kernel_symmetric_tangent<Kernel>; }
   void evaluate(const Nodes& x, const Request& what, Results& out) override;
 
  private:
@@ -74,6 +76,12 @@ class AssembledModel final : public ForceModel {
     }
   };
   void scatter(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const;
+  // All N x N blocks of Ke as they are (a non-symmetric tangent).
+  void scatter_all_blocks(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const {
+    const int* ids = block_ids_.data() + e * N * N;
+    for (int a = 0; a < N; ++a)
+      for (int b = 0; b < N; ++b) A.block(ids[a * N + b]) += scale * Ke.template block<3, 3>(3 * a, 3 * b);
+  }
   void model_stiffness(const typename Kernel::Element& el, const typename Kernel::Frame& frame, const NodeMatrix& xe,
                        Stiffness& Ke) const {
     ElementMatrixSink<N> sink{Ke};
@@ -196,6 +204,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       if (what.energy) energy += kernel_.energy(el, frame, xe);
       bool have_model_stiffness = false;
       bool scattered = false;
+      bool all_blocks = false;  // Ke is a non-symmetric tangent
       if (kind == StiffnessKind::Model && direct_scatter) {
         // Straight into the global matrix: no element matrix in between (the hot path of
         // the co-rotational step).
@@ -206,7 +215,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
         model_stiffness(el, frame, xe, Ke);
         have_model_stiffness = true;
       } else if (kind == StiffnessKind::Tangent) {
-        if (!kernel_.tangent(el, frame, xe, Ke)) model_stiffness(el, frame, xe, Ke), have_model_stiffness = true;
+        if (kernel_.tangent(el, frame, xe, Ke)) all_blocks = !kernel_symmetric_tangent<Kernel>;
+        else model_stiffness(el, frame, xe, Ke), have_model_stiffness = true;
       } else if (kind == StiffnessKind::Geometric) {
         if constexpr (Kernel::has_geometric_stiffness) {
           kernel_.geometric_stiffness(el, xe, k, e);
@@ -234,7 +244,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
         }
         scatter(e, fe, *out.forces);
       }
-      if ((kind == StiffnessKind::Model || kind == StiffnessKind::Tangent) && !scattered)
+      if (all_blocks) scatter_all_blocks(e, what.stiffness_scale, Ke, *out.stiffness);
+      else if ((kind == StiffnessKind::Model || kind == StiffnessKind::Tangent) && !scattered)
         scatter(e, what.stiffness_scale, Ke, *out.stiffness);
     }
     if (what.energy) out.energy = energy;

@@ -15,6 +15,10 @@
 //                                                             linearisation f(x) - K(x)(y - x)
 //                                                             (co-rotational: R held fixed)
 //   static constexpr bool has_geometric_stiffness;
+//   static constexpr bool symmetric_tangent;                  optional, default true: false when
+//                                                             tangent() is not symmetric (the
+//                                                             force is not a gradient); it then
+//                                                             fills all N x N blocks
 //   struct Element;  struct Frame;  struct Cache;             per-element data computed once;
 //                                                             per-configuration quantities
 //                                                             (a rotation); per-element state
@@ -37,14 +41,17 @@
 //                                                             or to an element matrix
 //   bool tangent(const Element&, const Frame&, const NodeMatrix& x, Stiffness& K) const;
 //                                                             exact -df/dx (at least the blocks
-//                                                             a <= b); false where it is
-//                                                             undefined (the Model one is used)
+//                                                             a <= b, all of them if not
+//                                                             symmetric_tangent); false where it
+//                                                             is undefined (the Model one is used)
 //   void geometric_stiffness(const Element&, const NodeMatrix& x, NodeScalars& k, Index e) const;
 //                                                             (if has_geometric_stiffness)
 //                                                             k_ab of the blocks k_ab I_3
 // with NodeMatrix = Eigen::Matrix<double, 3, N>, Stiffness = 3N x 3N, NodeScalars = N x N.
 // Kernels are stateless apart from Cache, so one kernel object serves every element.
 #pragma once
+
+#include <type_traits>
 
 #include "corotate/elements/element_geometry.hpp"
 #include "corotate/material.hpp"
@@ -72,6 +79,15 @@ struct ElementMatrixSink {
   Eigen::Matrix<double, 3 * N, 3 * N>& K;
   void add(int a, int b, const Mat3& block) { K.template block<3, 3>(3 * a, 3 * b) = block; }
 };
+
+// Kernel::symmetric_tangent where the kernel declares it, else true.
+template <class Kernel, class = void>
+struct KernelSymmetricTangent : std::true_type {};
+template <class Kernel>
+struct KernelSymmetricTangent<Kernel, std::void_t<decltype(Kernel::symmetric_tangent)>>
+    : std::bool_constant<Kernel::symmetric_tangent> {};
+template <class Kernel>
+inline constexpr bool kernel_symmetric_tangent = KernelSymmetricTangent<Kernel>::value;
 
 // For kernels without per-configuration quantities or caches.
 struct NoFrame {};

@@ -22,6 +22,10 @@
 // definite) and backtracks along dx until Phi decreases enough (Armijo). It stops when
 // |gradient| <= newton_tolerance * max(|f_ext| + |M v_n| / dt, |f(x_n)|) on the free DOFs;
 // then v = (x - x_n) / dt. Stiffness-proportional damping is not a potential and is refused.
+// Co-rotated hexes have no energy whose gradient is their force (their exact tangent is not
+// symmetric, ForceModel::symmetric_tangent()): for them the "gradient" is the residual of
+// the step's equations, the system is solved by sparse LU and the line search is Armijo on
+// |gradient|^2 instead of Phi (on Phi it stalled: 1/2 u^T K_e u is not their potential).
 // Fixed DOFs keep dv = 0 (their velocity) by projection (see FixedDofs).
 #pragma once
 

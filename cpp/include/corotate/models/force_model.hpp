@@ -11,9 +11,11 @@
 //              (the paper's eq. 4, leaving out dR/dx), the exact Hessian for the
 //              hyperelastic and spring models (projected to PSD per element if asked).
 //   Tangent    the exact derivative -df/dx, for Newton solves that want quadratic
-//              convergence; equals Model except for co-rotated tets (rotation terms
-//              included). Where the exact tangent is undefined (an inverted co-rotated tet)
-//              the element falls back to its Model stiffness.
+//              convergence; equals Model except for co-rotated elements (rotation terms
+//              included). Where the exact tangent is undefined (an inverted co-rotated
+//              element) the element falls back to its Model stiffness. Not symmetric where
+//              the forces are not the gradient of an energy (co-rotated hexes): then
+//              symmetric_tangent() is false and all blocks of the matrix are filled.
 //   Geometric  the initial-stress stiffness K_sigma of K_T = K_0 + K_u + K_sigma (paper
 //              eq. 6): blocks sum_q w_q (G_a^T S G_b) I_3, S the second Piola-Kirchhoff
 //              stress at x. Only models with a stress measure for it (hyperelastic);
@@ -66,6 +68,8 @@ class ForceModel {
   virtual BlockSparseMatrix mass_matrix(bool lumped) const = 0;
   // True when forces are linear in x (a static solve is then a single linear solve).
   virtual bool is_linear() const = 0;
+  // False when the Tangent stiffness is not symmetric (solve it with a non-symmetric solver).
+  virtual bool symmetric_tangent() const { return true; }
 
   // Energy, forces and/or stiffness at positions x (3 x n), as `what` asks. Throws
   // InvalidInput for a request the model cannot answer (Geometric on a model without a

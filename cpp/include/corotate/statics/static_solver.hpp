@@ -2,13 +2,15 @@
 // stepping: the load is applied in equal increments, each solved to the tolerance before
 // the next. Each iteration solves K(x) dx = f_int(x) + lambda * load with fixed DOFs held.
 //
-// A Newton step that would make the residual non-finite or ten times larger is halved.
+// A Newton step that would make the residual non-finite, or (after the first iteration of a
+// load step, the tangent predictor) ten times larger, is halved.
 // Displacement control: with `prescribed` given, the fixed DOFs move in the same load steps
 // from their positions on entry to the prescribed ones, so large prescribed displacements
 // are reached gradually too. For the linear model one iteration is exact. K is the model's
-// Tangent stiffness: exact for co-rotated tets and the hyperelastic models (quadratic
-// convergence), R K_e R^T for co-rotated hexes (linear convergence); where the exact tangent
-// is indefinite the iteration falls back to the model's positive semi-definite stiffness.
+// Tangent stiffness, exact for every model (quadratic convergence). Where it is symmetric it
+// is solved by `solver`; where it is not (co-rotated hexes, ForceModel::symmetric_tangent())
+// by a sparse LU (LuSolver). Where the exact tangent is indefinite (or singular) the
+// iteration falls back to the model's positive semi-definite stiffness, solved by `solver`.
 #pragma once
 
 #include <vector>
