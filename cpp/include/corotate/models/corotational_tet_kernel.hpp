@@ -6,8 +6,7 @@
 // traffic. Its tangent is exact (the derivative of the polar rotation included).
 #pragma once
 
-#include <Eigen/Cholesky>
-
+#include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
 #include "corotate/models/corotational_kernel.hpp"
 
 namespace corotate {
@@ -63,36 +62,44 @@ class CorotationalKernel<Tet4> {
       }
   }
   // Exact tangent. With P(F) = R sigma(sym(R^T F) - I) the element force is f_a = -V P g_a
-  // (g_a = dN_a/dX), so K_ab = V dP[dF = e_j g_b^T] g_a column by column. For the polar
-  // rotation R^T F = S stays symmetric, which fixes dR = R [theta]x through
-  //   (tr(S) I - S) theta = vee(W - W^T),  W = R^T dF,
-  // and then dP = R ([theta]x sigma + dsigma), dsigma = sigma(sym(W - [theta]x S)).
-  // Returns false where tr(S) I - S is near singular (inverted elements).
+  // (g_a = dN_a/dX). For the polar rotation R^T F = S stays symmetric, which fixes
+  // dR = R [theta]x through (tr(S) I - S) theta = vee(W - W^T), W = R^T dF. Moving node b by
+  // dx_b gives dF = dx_b g_b^T, W = y g_b^T with y = R^T dx_b, so theta = A_b y with
+  //     A_b = H^-1 [g_b]x,   H = tr(S) I - S,
+  // and dP = R ([theta]x sigma + dsigma), dsigma = sigma(sym(W - [theta]x S)). Collecting
+  // the terms of -df_a = V dP g_a that are linear in y gives the block, in the element frame,
+  //     K_ab = V ( N_a A_b + mu (g_a . g_b) I + mu g_b g_a^T + lambda g_a g_b^T ),
+  //     N_a  = -[sigma g_a]x + mu ([S g_a]x - S [g_a]x),
+  // and R K_ab R^T globally; without the N_a A_b term it is eq. (4)'s R K_e R^T.
+  // Fills the blocks a <= b. Returns false where H is near singular (inverted elements).
   bool tangent(const Element& el, const Frame& fr, const NodeMatrix& x, Stiffness& K) const {
     const Mat3& R = fr.R;
     Mat3 S = R.transpose() * (x * el.G);
     S = 0.5 * (S + S.transpose()).eval();
     Mat3 H = -S;
     H.diagonal().array() += S.trace();
-    const Eigen::LDLT<Mat3> ldlt(H);
-    const double h_min = ldlt.vectorD().minCoeff(), h_max = ldlt.vectorD().maxCoeff();
-    if (!(h_min > 1e-8 * h_max)) return false;
+    const double det = H.determinant(), scale = H.cwiseAbs().maxCoeff();
+    if (!(det > 1e-8 * scale * scale * scale)) return false;
+    const Mat3 H_inv = H.inverse();
     Mat3 strain = S;
     strain.diagonal().array() -= 1.0;
     const Mat3 sigma = stress(strain);
-    for (int b = 0; b < 4; ++b)
-      for (int j = 0; j < 3; ++j) {
-        const Mat3 W = R.row(j).transpose() * el.G.row(b);  // R^T (e_j g_b^T)
-        const Mat3 skew = W - W.transpose();
-        const Vec3 theta = ldlt.solve(Vec3(skew(2, 1), skew(0, 2), skew(1, 0)));
-        Mat3 T;  // [theta]x
-        T << 0, -theta.z(), theta.y(), theta.z(), 0, -theta.x(), -theta.y(), theta.x(), 0;
-        Mat3 d_strain = W - T * S;
-        d_strain = 0.5 * (d_strain + d_strain.transpose()).eval();
-        const Mat3 dP = R * (T * sigma + stress(d_strain));
-        for (int a = 0; a < 4; ++a) K.block<3, 1>(3 * a, 3 * b + j) = el.volume * dP * el.G.row(a).transpose();
+    const double v = el.volume;
+    Mat3 A[4], N[4];
+    for (int c = 0; c < 4; ++c) {
+      const Vec3 g = el.G.row(c).transpose();
+      A[c] = H_inv * cross_matrix(g);
+      N[c] = mu_ * (cross_matrix(S * g) - S * cross_matrix(g)) - cross_matrix(sigma * g);
+    }
+    for (int a = 0; a < 4; ++a) {
+      const Vec3 ga = el.G.row(a).transpose();
+      for (int b = a; b < 4; ++b) {
+        const Vec3 gb = el.G.row(b).transpose();
+        Mat3 local = N[a] * A[b] + mu_ * gb * ga.transpose() + lambda_ * ga * gb.transpose();
+        local.diagonal().array() += mu_ * ga.dot(gb);
+        K.block<3, 3>(3 * a, 3 * b).noalias() = (v * R) * local * R.transpose();
       }
-    K = 0.5 * (K + K.transpose()).eval();  // exact symmetry (the co-rotated tet force is a gradient)
+    }
     return true;
   }
 
