@@ -39,9 +39,10 @@ def test_forces_are_the_full_models_forces_at_the_tool(element, method):
     assert fb.num_elements < len(mesh.cells)  # only the elements around the tool
 
 
+@pytest.mark.parametrize("element", ["tet4", "hex8"])
 @pytest.mark.parametrize("method", ["linear", "corotational", "averaged"])
-def test_stiffness_is_the_derivative_of_the_tool_forces(method):
-    mesh = cr.beam(2.0, 1.0, 1.0, cells=(4, 2, 2), element="tet4")
+def test_stiffness_is_the_derivative_of_the_tool_forces(element, method):
+    mesh = cr.beam(2.0, 1.0, 1.0, cells=(4, 2, 2), element=element)
     tool = mesh.nodes_on_plane("x", 2.0)
     fb = cr.HapticFeedback(cr.Body(mesh, MAT), tool, method=method)
     x = deformed(mesh.points, 1)
