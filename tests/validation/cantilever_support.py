@@ -2,7 +2,8 @@
 
 * consistent nodal loads of a uniform traction on the tip face of a structured beam,
 * Timoshenko static tip deflection of a rectangular cantilever,
-* the inextensible elastica of a cantilever under a dead tip load,
+* the inextensible elastica of a cantilever under a dead tip load, by a boundary-value
+  solve and in closed form with elliptic integrals,
 * the first bending frequency of a Timoshenko cantilever (shear + rotary inertia).
 """
 
@@ -11,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_bvp, solve_ivp
 from scipy.optimize import brentq
+from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
 
 # Euler-Bernoulli cantilever: first root of 1 + cos(b) cosh(b) = 0.
 BETA1 = 1.8751040687119611
@@ -73,21 +75,58 @@ def elastica_tip(alpha: float):
     magnitude in the load direction.
     """
 
-    def rhs(s, y):
-        return np.vstack([y[1], -alpha * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])])
+    def rhs(s, y, a):
+        return np.vstack([y[1], -a * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])])
 
     def bc(ya, yb):
         return np.array([ya[0], yb[1], ya[2], ya[3]])
 
+    # Continuation in equal steps of alpha <= 2, each from the previous solution (from the
+    # linear solution the solver does not find the elastica beyond alpha ~ 5).
+    steps = int(np.ceil(alpha / 2.0))
+    a0 = alpha / steps
     s = np.linspace(0.0, 1.0, 101)
-    guess = np.zeros((4, s.size))
-    guess[0] = alpha * (s - s**2 / 2)  # the linear solution
-    guess[1] = alpha * (1 - s)
-    guess[2] = s
-    sol = solve_bvp(rhs, bc, s, guess, tol=1e-10, max_nodes=100000)
-    assert sol.success, sol.message
-    theta_tip, _, x_tip, z_tip = sol.y[:, -1]
+    y = np.zeros((4, s.size))
+    y[0] = a0 * (s - s**2 / 2)  # the linear solution
+    y[1] = a0 * (1 - s)
+    y[2] = s
+    for k in range(1, steps + 1):
+        sol = solve_bvp(lambda s, y, a=k * a0: rhs(s, y, a), bc, s, y, tol=1e-10, max_nodes=100000)
+        assert sol.success, sol.message
+        s, y = sol.x, sol.y
+    theta_tip, _, x_tip, z_tip = y[:, -1]
     return theta_tip, x_tip, z_tip
+
+
+def elastica_tip_elliptic(alpha: float):
+    """The elastica_tip answer in closed form (Bisshopp & Drucker 1945; the values tabulated
+    by Mattiasson 1981). Returns (tip rotation theta0 [rad], x_tip / L, z_tip / L).
+
+    The first integral of theta'' = -alpha cos(theta) with theta'(1) = 0 is
+    theta'^2 = 2 alpha (sin theta0 - sin theta). Substituting 1 + sin theta = 2 k^2 sin^2 phi,
+    k^2 = (1 + sin theta0) / 2, gives d theta / sqrt(sin theta0 - sin theta)
+    = sqrt(2) d phi / sqrt(1 - k^2 sin^2 phi), phi from phi1 = asin(1 / (sqrt(2) k))
+    (theta = 0) to pi / 2 (theta = theta0). With F, E the incomplete elliptic integrals of
+    the first and second kind (parameter m = k^2) and K, E their complete values:
+        sqrt(alpha) = K(m) - F(phi1, m)                          (fixes theta0),
+        x_tip / L   = sqrt(2 sin(theta0) / alpha)                (integral of cos theta),
+        z_tip / L   = 1 - 2 (E(m) - E(phi1, m)) / sqrt(alpha)    (sin theta = 1 - 2 dn^2).
+    """
+
+    def parts(theta0):
+        m = (1.0 + np.sin(theta0)) / 2.0
+        phi1 = np.arcsin(1.0 / np.sqrt(2.0 * m))
+        return m, phi1
+
+    def length_mismatch(theta0):
+        m, phi1 = parts(theta0)
+        return ellipk(m) - ellipkinc(phi1, m) - np.sqrt(alpha)
+
+    theta0 = brentq(length_mismatch, 1e-12, np.pi / 2 - 1e-12, xtol=1e-15, rtol=1e-15)
+    m, phi1 = parts(theta0)
+    x_tip = np.sqrt(2.0 * np.sin(theta0) / alpha)
+    z_tip = 1.0 - 2.0 * (ellipe(m) - ellipeinc(phi1, m)) / np.sqrt(alpha)
+    return theta0, x_tip, z_tip
 
 
 def timoshenko_first_frequency(E, nu, rho, L, b, h, f_guess):
