@@ -113,9 +113,10 @@ class Body:
         return _csr(self._force_model.geometric_stiffness_csr(self._check_positions(positions)), 3 * self.n_nodes)
 
     def tangent_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
-        """The exact tangent -df/dx (3n x 3n) at positions (default: rest): for co-rotated
-        tets it includes the derivative of the rotations, which stiffness_matrix leaves out;
-        for the other models it equals stiffness_matrix."""
+        """The exact tangent -df/dx (3n x 3n) at positions (default: rest): for the
+        co-rotational model it includes the derivative of the rotations, which
+        stiffness_matrix leaves out (for hexahedra it is not symmetric: their force is not
+        the gradient of an energy); for the other models it equals stiffness_matrix."""
         x = self.mesh.points if positions is None else self._check_positions(positions)
         return _csr(self._force_model.tangent_csr(x), 3 * self.n_nodes)
 
