@@ -24,6 +24,7 @@ Conventions
 
 from __future__ import annotations
 
+import importlib
 import itertools
 import os
 import warnings
@@ -34,7 +35,7 @@ from typing import TYPE_CHECKING, Any, Callable
 import numpy as np
 
 if TYPE_CHECKING:
-    from numpy.typing import ArrayLike, DTypeLike
+    from numpy.typing import ArrayLike
 
 __all__ = [
     "SUPPORTED_CELL_TYPES",
@@ -229,6 +230,27 @@ class Mesh:
             return _tet_volumes(x)
         return _hex_volumes(x[:, :8, :])
 
+    # -- conversion -------------------------------------------------------
+
+    def to_meshio(self, point_data: Mapping[str, ArrayLike] | None = None) -> Any:
+        """This mesh as a ``meshio.Mesh`` (copies of the arrays).
+
+        point_data  optional dict name -> (n,) or (n, k) array, one row per node
+        returns     meshio.Mesh with one cell block of type ``cell_type``
+        """
+        meshio = _meshio()
+        data = _check_point_data(point_data, self.n_nodes)
+        return meshio.Mesh(self.points.copy(), [(self.cell_type, self.cells.copy())], point_data=data)
+
+    def to_pyvista(self) -> Any:
+        """This mesh as a ``pyvista.UnstructuredGrid`` (needs pyvista, which
+        corotate does not depend on: ``pip install pyvista``)."""
+        try:
+            pyvista = importlib.import_module("pyvista")  # optional, not a dependency
+        except ImportError as e:
+            raise ImportError("Mesh.to_pyvista needs pyvista, which is not installed: pip install pyvista") from e
+        return pyvista.from_meshio(self.to_meshio())
+
 
 def _check_cell_type(cell_type: str) -> str:
     if not isinstance(cell_type, str) or cell_type not in SUPPORTED_CELL_TYPES:
@@ -334,122 +356,65 @@ def _meshio() -> Any:
     return meshio
 
 
-def read_mesh(path: str | os.PathLike[str], remove_unused_nodes: bool = True) -> Mesh:
-    """Read a volume mesh from a file.
+def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = True) -> Mesh:
+    """Read a volume mesh from a file or take it from a meshio.Mesh.
 
-    path  any format meshio reads (.vtu, .vtk, .msh, .xdmf, ...), or a TetGen
-          pair given as either ``name.node`` or ``name.ele`` (both must exist;
-          0- or 1-based as the .node file's first index says).
+    source  a path in any format meshio reads (.vtu, .vtk, .msh, .xdmf, ...),
+            or a TetGen pair given as either ``name.node`` or ``name.ele``
+            (both must exist; 0- or 1-based as the .node file's first index
+            says), or a ``meshio.Mesh`` already in memory.
     remove_unused_nodes
-          drop nodes no cell refers to (they would have no mass and no
-          stiffness) and renumber the rest, keeping their order; a warning
-          says how many were dropped.
+            drop nodes no cell refers to (they would have no mass and no
+            stiffness) and renumber the rest, keeping their order; a warning
+            says how many were dropped.
     returns  Mesh with one of the supported cell types.
 
     Cells with negative signed volume are mirrored into VTK orientation (for
     tets: nodes 1 and 2 swapped) with a warning giving their count.
+    Lower-dimensional cells (boundary triangles, lines, vertices, as Gmsh
+    writes for physical groups) are dropped with a warning giving their count.
+
+    Files are treated as untrusted: whatever meshio does with a corrupt file
+    (it may call ``sys.exit``) ends here as a ValueError naming the file, and
+    the cell count meshio returns is checked against the count the file
+    declares (VTU, legacy VTK, ASCII Gmsh), so no cell is lost silently.
 
     Raises
     ------
     FileNotFoundError  if a file is missing (the message has the path).
-    ValueError  if the file cannot be parsed, holds no supported volume cells
-                (the message lists the types found and the supported ones), or
-                holds several supported volume types (one type per body).
+    ValueError  if the file cannot be parsed or is inconsistent (the message
+                names the file and the problem), holds no supported volume
+                cells (the message lists the types found and the supported
+                ones), holds other volume cells (wedges, tetra10, unknown
+                types), or several supported volume types (one type per body).
     """
-    path = Path(os.fspath(path))
-    if path.suffix.lower() in (".node", ".ele"):
-        points, cells, cell_type = _read_tetgen(path)
+    from . import mesh_io
+
+    if _is_meshio_mesh(source):
+        label = "meshio.Mesh"
+        points, cells, cell_type = mesh_io.volume_cells(source, label, stacklevel=2)
     else:
-        points, cells, cell_type = _read_meshio(path)
-    mesh = Mesh(points, cells, cell_type)  # validates before any renumbering
+        path = Path(os.fspath(source))
+        label = str(path)
+        if path.suffix.lower() in (".node", ".ele"):
+            points, cells, cell_type = mesh_io.read_tetgen(path)
+        else:
+            points, cells, cell_type = mesh_io.volume_cells(mesh_io.read_meshio_file(path), label, stacklevel=2)
+    try:
+        mesh = Mesh(points, cells, cell_type)  # validates before any renumbering
+    except ValueError as e:
+        raise ValueError(f"{label}: {e}") from e
     if remove_unused_nodes:
-        mesh = _drop_unused_nodes(mesh, path)
-    _fix_orientation(mesh, path)
+        mesh = _drop_unused_nodes(mesh, label)
+    _fix_orientation(mesh, label)
     return mesh
 
 
-def _read_meshio(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
-    """Return (points, cells, cell_type) of the one volume type in a file."""
-    if not path.is_file():
-        raise FileNotFoundError(f"mesh file not found: {path}")
-    meshio = _meshio()
-    try:
-        m = meshio.read(path)
-    except meshio.ReadError as e:
-        raise ValueError(f"could not read mesh file {path}: {e}") from e
-    found = [block.type for block in m.cells]
-    volume_types = sorted({t for t in found if t in VOLUME_CELL_TYPES})
-    if not volume_types:
-        raise ValueError(
-            f"{path} has no supported volume cells; found cell types {sorted(set(found))}, supported: {_volume_list()}"
-        )
-    if len(volume_types) > 1:
-        raise ValueError(
-            f"{path} mixes volume cell types {volume_types}; corotate needs "
-            "one element type per body (split the file or convert the mesh)"
-        )
-    cell_type = volume_types[0]
-    # Formats such as Gmsh split cells into one block per physical group.
-    blocks = [b.data for b in m.cells if b.type == cell_type]
-    return m.points, np.concatenate(blocks, axis=0), cell_type
-
-
-def _tetgen_rows(path: Path, kind: str) -> tuple[list[str], list[list[str]]]:
-    """Header and data rows of a TetGen file, comments and blanks removed."""
-    if not path.is_file():
-        raise FileNotFoundError(f"TetGen {kind} file not found: {path}")
-    rows = []
-    with open(path) as f:
-        for line in f:
-            tokens = line.split("#", 1)[0].split()
-            if tokens:
-                rows.append(tokens)
-    if not rows:
-        raise ValueError(f"TetGen {kind} file {path} is empty")
-    header, body = rows[0], rows[1:]
-    try:
-        count = int(header[0])
-    except ValueError:
-        raise ValueError(f"bad header in {path}: {' '.join(header)!r}") from None
-    if len(body) < count:
-        raise ValueError(f"{path} announces {count} entries but has {len(body)}")
-    return header, body[:count]
-
-
-def _parse_table(rows: list[list[str]], ncols: int, dtype: DTypeLike, path: Path) -> np.ndarray:
-    """The first ncols columns of rows as an array, with a clear error."""
-    for i, r in enumerate(rows):
-        if len(r) < ncols:
-            raise ValueError(f"{path}: entry {i} has {len(r)} values, expected >= {ncols}")
-    try:
-        return np.array([r[:ncols] for r in rows], dtype=dtype)
-    except ValueError as e:
-        raise ValueError(f"{path}: could not parse numbers ({e})") from None
-
-
-def _read_tetgen(path: Path) -> tuple[np.ndarray, np.ndarray, str]:
-    """Return (points, cells, "tetra") from a TetGen .node/.ele pair."""
-    node_path, ele_path = path.with_suffix(".node"), path.with_suffix(".ele")
-    header, rows = _tetgen_rows(node_path, ".node")
-    if len(header) > 1 and int(header[1]) != 3:
-        raise ValueError(f"{node_path} has dimension {header[1]}, expected 3")
-    table = _parse_table(rows, 4, np.float64, node_path)
-    ids = table[:, 0].astype(np.int64)
-    # TetGen numbers from 0 or 1 (the -z switch); the first node tells which.
-    base = int(ids[0]) if len(ids) else 0
-    if base not in (0, 1) or np.any(ids != base + np.arange(len(ids))):
-        raise ValueError(f"{node_path}: node numbers must run consecutively from 0 or 1")
-    points = table[:, 1:4]
-
-    header, rows = _tetgen_rows(ele_path, ".ele")
-    per_tet = int(header[1]) if len(header) > 1 else 4
-    if per_tet != 4:
-        raise ValueError(
-            f"{ele_path} has {per_tet}-node tets; only 4-node tets are "
-            f"supported (supported cell types: {_supported_list()})"
-        )
-    cells = _parse_table(rows, 5, np.int64, ele_path)[:, 1:5] - base
-    return points, cells, "tetra"
+def _is_meshio_mesh(obj: Any) -> bool:
+    """A meshio.Mesh (or look-alike), as opposed to a path."""
+    if isinstance(obj, (str, bytes, os.PathLike)):
+        return False
+    return hasattr(obj, "points") and hasattr(obj, "cells")
 
 
 def _drop_unused_nodes(mesh: Mesh, path: str | os.PathLike[str]) -> Mesh:
