@@ -95,6 +95,7 @@ void Simulation::step(int n) {
   const double time_before = time_;
   const SimulationStats stats_before = stats_;
   integrator_->save_state();
+  model_->save_caches();
   try {
     load_ = f_ext_ + gravity_forces_;
     const StepInput in = input();
@@ -128,6 +129,7 @@ void Simulation::step(int n) {
     time_ = time_before;
     stats_ = stats_before;
     integrator_->restore_state();
+    model_->restore_caches();
     throw;
   }
 }
@@ -135,6 +137,7 @@ void Simulation::step(int n) {
 StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed) {
   check_finite_state(x_, v_, f_ext_);
   x_backup_ = x_;
+  model_->save_caches();
   load_ = f_ext_ + gravity_forces_;
   DirectSolver direct;
   try {
@@ -143,6 +146,7 @@ StaticResult Simulation::solve_static(const StaticSettings& settings, const Node
     return result;
   } catch (...) {
     x_ = x_backup_;
+    model_->restore_caches();
     throw;
   }
 }

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <sstream>
+#include <type_traits>
 #include <vector>
 
 #include "corotate/fem/element_kernel.hpp"
@@ -47,6 +48,13 @@ class AssembledModel final : public ForceModel {
   bool is_linear() const override { return Kernel::constant_stiffness; }
   bool symmetric_tangent() const override { return kernel_symmetric_tangent<Kernel>; }
   void evaluate(const Nodes& x, const Request& what, Results& out) override;
+  void save_caches() override {
+    if constexpr (!std::is_empty_v<typename Kernel::Cache>) saved_caches_ = caches_;
+  }
+  void restore_caches() override {
+    if constexpr (!std::is_empty_v<typename Kernel::Cache>)
+      if (saved_caches_.size() == caches_.size()) caches_ = saved_caches_;
+  }
 
  private:
   static const Material& validated(const Material& m) {
@@ -106,7 +114,7 @@ class AssembledModel final : public ForceModel {
   BlockSparseMatrix pattern_;
   std::vector<int> block_ids_;  // N * N per element: global block of element block (a, b)
   std::vector<typename Kernel::Element> elements_;  // empty for constant-stiffness kernels
-  std::vector<typename Kernel::Cache> caches_;
+  std::vector<typename Kernel::Cache> caches_, saved_caches_;
   std::vector<ElementMass<N>> masses_;
   BlockSparseMatrix constant_stiffness_;  // K, assembled once, for constant-stiffness kernels
   Vec displacement_, product_;            // work vectors of the constant-stiffness path

@@ -80,6 +80,12 @@ class ForceModel {
   // configuration-independent bounds); nullptr for models that have none.
   virtual const ExplicitTraits* explicit_traits() const { return nullptr; }
 
+  // Caches that speed up evaluate() (warm starts of the rotation extraction) change its
+  // answers at the level of round-off. A transactional caller saves them before and restores
+  // them after a failed call, so a retried run matches one that never failed bit for bit.
+  virtual void save_caches() {}
+  virtual void restore_caches() {}
+
   // --- Conveniences over evaluate(). ---
   double energy(const Nodes& x);
   // f += internal forces at x.
