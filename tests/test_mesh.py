@@ -1,5 +1,8 @@
 """Tests for corotate.mesh and corotate.output (pure Python, no C++ core)."""
 
+import base64
+import re
+import struct
 import warnings
 import xml.etree.ElementTree as ET
 from collections import Counter
@@ -308,6 +311,138 @@ def test_read_out_of_range_index_in_tetgen(tmp_path):
         warnings.simplefilter("error")  # the error comes first, no unused-node warning
         with pytest.raises(ValueError, match="cell 0 has node index 9 out of range"):
             read_mesh(tmp_path / "bad.node")
+
+
+# -- hostile files and meshio objects ------------------------------------------
+
+
+def test_vtu_without_cells_is_a_value_error(tmp_path):
+    f = tmp_path / "empty.vtu"
+    meshio.write(f, meshio.Mesh(unit_tet().points, []))
+    with pytest.raises(ValueError, match=r"empty\.vtu has no cells.*no supported volume cells"):
+        read_mesh(f)
+
+
+def test_meshio_system_exit_becomes_value_error(tmp_path, monkeypatch):
+    f = tmp_path / "x.vtu"
+    write_mesh(f, unit_tet())
+
+    def give_up(filename):
+        raise SystemExit(1)
+
+    monkeypatch.setitem(meshio._helpers.reader_map, "vtu", give_up)
+    with pytest.raises(ValueError, match=r"x\.vtu.*sys\.exit\(1\)") as info:
+        read_mesh(f)
+    assert isinstance(info.value.__cause__, SystemExit)
+
+
+def test_raw_reader_errors_name_the_file(tmp_path):
+    f = tmp_path / "garbage.vtu"
+    f.write_bytes(b"<VTKFile type='UnstructuredGrid'>\xff\xfe")
+    with pytest.raises(ValueError, match=r"could not read mesh file .*garbage\.vtu") as info:
+        read_mesh(f)
+    assert info.value.__cause__ is not None
+    with pytest.raises(ValueError, match=r"mesh\.unknownext"):
+        (tmp_path / "mesh.unknownext").write_text("1 2 3")
+        read_mesh(tmp_path / "mesh.unknownext")
+
+
+def test_unknown_vtk_cell_type_is_an_error(tmp_path):
+    m = box((1, 1, 1), (1, 1, 1), "tet4")
+    f = tmp_path / "odd.vtu"
+    meshio.write(f, m.to_meshio(), binary=False)
+    text = f.read_text()
+    head, rest = text.split('Name="types"', 1)
+    attrs, rest = rest.split(">", 1)
+    _body, tail = rest.split("<", 1)
+    f.write_text(head + 'Name="types"' + attrs + ">\n" + " ".join(["10"] * 5 + ["99"]) + "\n<" + tail)
+    with pytest.raises(ValueError, match=r"odd\.vtu: cell 5 has unknown VTK cell type 99"):
+        read_mesh(f)
+    # In binary (uncompressed) meshio skips such cells; the declared count catches that.
+    meshio.write(f, m.to_meshio(), binary=True, compression=None)
+    types = base64.b64encode(struct.pack("<I", 6 * 8) + struct.pack("<6q", *[10] * 5, 99)).decode()
+    f.write_text(re.sub(r'(Name="types" format="binary">)[^<]*', lambda g: g.group(1) + types, f.read_text()))
+    with pytest.raises(ValueError, match=r"odd\.vtu declares 6 cell\(s\) but meshio read 5"):
+        read_mesh(f)
+    bad = meshio.Mesh(m.points, [("tetra", m.cells[:5]), ("wedge", np.array([[0, 1, 2, 3, 4, 5]]))])
+    meshio.write(f, bad)
+    with pytest.raises(ValueError, match=r"cells corotate cannot use \(1 wedge\)"):
+        read_mesh(f)
+
+
+@pytest.mark.parametrize("fmt", ["gmsh22", "gmsh"])
+def test_gmsh_node_tag_zero_is_an_error(tmp_path, fmt):
+    m = box((1, 1, 1), (1, 1, 1), "tet4")
+    cells = m.cells.copy()
+    cells[2, 1] = -1  # written as node tag 0, which meshio would read as the last node
+    ones = np.ones(m.n_cells, dtype=int)
+    f = tmp_path / "zero.msh"
+    meshio.write(
+        f,
+        meshio.Mesh(m.points, [("tetra", cells)], cell_data={"gmsh:physical": [ones], "gmsh:geometrical": [ones]}),
+        file_format=fmt,
+        binary=False,
+    )
+    with pytest.raises(ValueError, match=r"zero\.msh: an element refers to node tag 0"):
+        read_mesh(f)
+
+
+def test_lower_dimensional_cells_are_dropped_with_a_count(tmp_path):
+    m = box((1, 1, 1), (1, 1, 1), "tet4")
+    f = tmp_path / "with_faces.vtu"
+    tris = np.array([[0, 1, 2], [1, 2, 3]])
+    meshio.write(f, meshio.Mesh(m.points, [("triangle", tris), ("tetra", m.cells), ("vertex", np.array([[0]]))]))
+    with pytest.warns(UserWarning, match=r"ignored 3 lower-dimensional cell\(s\) \(2 triangle, 1 vertex\)"):
+        r = read_mesh(f)
+    assert np.array_equal(r.cells, m.cells)
+
+
+def test_tetgen_count_must_match_rows(tmp_path):
+    m = box((1, 1, 1), (1, 1, 1), "tet4")
+    write_tetgen(tmp_path / "c", m.points, m.cells, 1)
+    ele = tmp_path / "c.ele"
+    for count in (-1, m.n_cells - 1, m.n_cells + 1):
+        lines = ele.read_text().split("\n")
+        lines[0] = f"{count} 4 1"
+        ele.write_text("\n".join(lines))
+        with pytest.raises(ValueError, match=r"c\.ele"):
+            read_mesh(ele)
+
+
+def test_tetgen_comments_and_tabs(tmp_path):
+    # meshio's own TetGen reader fails on both; they are legal TetGen.
+    m = box((1, 2, 3), (1, 1, 1), "tet4")
+    write_tetgen(tmp_path / "t", m.points, m.cells, 0)
+    node = tmp_path / "t.node"
+    lines = node.read_text().split("\n")
+    lines[1] = lines[1].replace(" ", "\t")
+    node.write_text("\n".join(lines))
+    r = read_mesh(node)
+    assert np.array_equal(r.cells, m.cells)
+    node.write_bytes(node.read_bytes().replace(b"0.0", b"0\xff0", 1))
+    with pytest.raises(ValueError, match=r"t\.node: could not parse numbers"):
+        read_mesh(node)
+
+
+def test_read_mesh_from_meshio_object_and_back():
+    m = box(SIZE, (2, 1, 1), "hex20")
+    mm = m.to_meshio(point_data={"t": np.arange(m.n_nodes)})
+    assert isinstance(mm, meshio.Mesh) and mm.point_data["t"].shape == (m.n_nodes,)
+    mm.cells[0].data[:] = 0  # a copy: the Mesh is unchanged
+    assert np.array_equal(m.cells, box(SIZE, (2, 1, 1), "hex20").cells)
+    r = read_mesh(m.to_meshio())
+    assert np.array_equal(r.points, m.points) and np.array_equal(r.cells, m.cells)
+    bad = meshio.Mesh(m.points, [("hexahedron20", np.where(m.cells == 3, -1, m.cells))])
+    with pytest.raises(ValueError, match=r"meshio\.Mesh: hexahedron20 cell 0 has node index -1"):
+        read_mesh(bad)
+
+
+def test_to_pyvista_without_pyvista(monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "pyvista", None)
+    with pytest.raises(ImportError, match="pip install pyvista"):
+        unit_tet().to_pyvista()
 
 
 # -- ParaView time series ---------------------------------------------------------
