@@ -21,6 +21,7 @@ def test_literal_types_match_the_core_lists():
     assert set(get_args(choices.TimeStepPolicyName)) == set(_core.time_step_policy_names())
     assert set(get_args(choices.OnUnstableName)) == set(_core.on_unstable_names())
     assert set(get_args(choices.FeedbackMethod)) == set(_core.feedback_method_names())
+    assert set(get_args(choices.FailurePolicy)) == set(_core.failure_policy_names())
 
 
 def test_models_per_cell_type():

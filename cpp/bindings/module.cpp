@@ -11,6 +11,7 @@
 #include "corotate/integrators/integrator.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/models/rotation_extraction.hpp"
+#include "corotate/simulation.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
 
@@ -106,6 +107,7 @@ PYBIND11_MODULE(_core, m) {
       },
       "The explicit integrators.");
   m.def("time_step_policy_names", &time_step_policy_names);
+  m.def("failure_policy_names", &failure_policy_names);
   m.def("on_unstable_names", &on_unstable_names);
 
   py::class_<Material>(m, "Material")

@@ -64,6 +64,12 @@ py::dict stats_dict(const SimulationStats& st) {
   d["estimate_time"] = st.estimate_ms * 1e-3;
   d["estimates"] = st.estimates;
   d["real_time_ratio"] = st.real_time_ratio();
+  d["solver_stalled"] = st.last.solver_stalled;
+  d["inverted_elements"] = st.last.start_inverted;
+  d["energy_growth"] = st.last.energy_growth;
+  d["stalled_steps"] = st.stalled_steps;
+  d["inverted_steps"] = st.inverted_steps;
+  d["energy_growth_steps"] = st.energy_growth_steps;
   return d;
 }
 
@@ -145,6 +151,11 @@ void bind_simulation(py::module_& m) {
       .def_property("gravity", &Simulation::gravity, &Simulation::set_gravity)
       .def_property("fixed_nodes", &Simulation::fixed_nodes, &Simulation::set_fixed_nodes)
       .def_property("settings", &Simulation::settings, &Simulation::set_settings)
+      .def_property(
+          "failure_policy",
+          [](const Simulation& s) { return failure_policy_names()[static_cast<int>(s.failure_policy())]; },
+          [](Simulation& s, const std::string& name) { s.set_failure_policy(failure_policy_from_name(name)); },
+          "'warn' (default), 'raise' or 'ignore': what a stalled solve, inverted elements or a run-away do")
       .def(
           "set_solver",
           [](Simulation& s, const std::string& solver, const PCGSettings& pcg) {

@@ -1,11 +1,24 @@
 #include "corotate/simulation.hpp"
 
+#include <cmath>
 #include <sstream>
 
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
 
 namespace corotate {
+
+const std::vector<std::string>& failure_policy_names() {
+  static const std::vector<std::string> names = {"ignore", "warn", "raise"};
+  return names;
+}
+
+FailurePolicy failure_policy_from_name(const std::string& name) {
+  const auto& names = failure_policy_names();
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<FailurePolicy>(i);
+  throw InvalidInput("unknown failure policy '" + name + "' (choose 'ignore', 'warn' or 'raise')");
+}
 
 Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettings& settings,
                        std::unique_ptr<LinearSolver> solver)
@@ -24,7 +37,48 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettin
   x_next_.setZero(3, n);
   v_next_.setZero(3, n);
   fixed_ = FixedDofs(model_->pattern(), std::vector<char>(3 * n, 0));
+  lumped_masses_ = model_->lumped_masses();
   rebuild_gravity_forces();
+}
+
+void Simulation::check_health(StepStats& st) {
+  if (failure_policy_ == FailurePolicy::Ignore) return;
+  std::ostringstream problem;
+  st.solver_stalled = !st.solve.converged && st.solve.iterations > 0 && st.solve.relative_residual >= 1;
+  if (st.solver_stalled)
+    problem << "the linear solve stalled at its iteration cap (relative residual " << st.solve.relative_residual
+            << " >= 1): raise the PCG iteration cap or use a stronger preconditioner";
+  if (st.start_inverted > 0)
+    problem << (problem.tellp() > 0 ? "; " : "") << st.start_inverted
+            << " elements were inverted or flat at the start of the step (det F <= 0): the load or the time step is "
+               "too large for this mesh, or the material too soft";
+  if (std::isfinite(st.start_energy)) {
+    // Total energy of the start state, and whether anything drove the body since the last one.
+    double kinetic = 0;
+    for (Index i = 0; i < num_nodes(); ++i) kinetic += 0.5 * lumped_masses_[i] * v_.col(i).squaredNorm();
+    const double potential = -as_dofs(load_).dot(as_dofs(x_) - as_dofs(model_->rest_positions()));
+    const double total = st.start_energy + kinetic + potential;
+    bool driven = !energy_check_.valid || energy_check_.load.cols() != load_.cols() || energy_check_.load != load_;
+    for (Index d : fixed_.list()) driven = driven || as_dofs(v_)[d] != 0.0;
+    const double size = std::abs(st.start_energy) + kinetic + std::abs(potential) + 1e-300;
+    st.energy_growth = !driven && total - energy_check_.total > 1e-2 * size;
+    if (st.energy_growth)
+      problem << (problem.tellp() > 0 ? "; " : "") << "the total energy grew by "
+              << 100 * (total - energy_check_.total) / size
+              << " % in one step while nothing drove the body: a run-away (too few PCG iterations, or a time step "
+                 "too large for the linearised step)";
+    energy_check_.valid = true;
+    energy_check_.total = total;
+    energy_check_.load = load_;
+  }
+  if (problem.tellp() > 0 && failure_policy_ == FailurePolicy::Raise) {
+    std::ostringstream msg;
+    msg << "step " << stats_.steps + 1 << ": " << problem.str() << "; the state was restored (failure policy 'raise')";
+    throw SolverFailure(msg.str());
+  }
+  stats_.stalled_steps += st.solver_stalled;
+  stats_.inverted_steps += st.start_inverted > 0;
+  stats_.energy_growth_steps += st.energy_growth;
 }
 
 StepInput Simulation::input() { return {*model_, x_, v_, load_, fixed_, *solver_}; }
@@ -96,12 +150,16 @@ void Simulation::step(int n) {
   const SimulationStats stats_before = stats_;
   integrator_->save_state();
   model_->save_caches();
+  energy_check_backup_ = energy_check_;
+  if (energy_check_.valid && (energy_check_.x_end != x_ || energy_check_.v_end != v_))
+    energy_check_.valid = false;  // positions or velocities were written since the last call
   try {
     load_ = f_ext_ + gravity_forces_;
     const StepInput in = input();
     integrator_->begin(in);
     for (int s = 0; s < n; ++s) {
       StepStats st = integrator_->step(in, x_next_, v_next_);
+      check_health(st);  // of the start state and the solve (may throw under Raise)
       if (Index i = first_non_finite_node(x_next_); i >= 0 || !v_next_.allFinite()) {
         std::ostringstream msg;
         msg << "step " << stats_.steps + 1 << " produced non-finite positions or velocities"
@@ -122,6 +180,10 @@ void Simulation::step(int n) {
       stats_.last = std::move(st);
       record_estimates();
     }
+    if (failure_policy_ != FailurePolicy::Ignore) {
+      energy_check_.x_end = x_;
+      energy_check_.v_end = v_;
+    }
   } catch (...) {
     x_ = x_backup_;
     v_ = v_backup_;
@@ -130,6 +192,7 @@ void Simulation::step(int n) {
     stats_ = stats_before;
     integrator_->restore_state();
     model_->restore_caches();
+    energy_check_ = energy_check_backup_;
     throw;
   }
 }

@@ -17,6 +17,7 @@ from __future__ import annotations
 import corotate._core as _core
 
 from .body import Body
+from .driven_body import SimulationWarning
 from .explicit import ExplicitSimulation
 from .feedback import HapticFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
@@ -43,5 +44,6 @@ __all__ = [
     "SpringGeometry",
     "ExplicitSimulation",
     "HapticFeedback",
+    "SimulationWarning",
 ]
 __version__: str = _core.__version__  # from the VERSION file, through CMake

@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -358,6 +358,14 @@ class Simulation:
     def external_forces(self) -> numpy.ndarray:
         ...
     @property
+    def failure_policy(self) -> str:
+        """
+        'warn' (default), 'raise' or 'ignore': what a stalled solve, inverted elements or a run-away do
+        """
+    @failure_policy.setter
+    def failure_policy(self, arg1: str) -> None:
+        ...
+    @property
     def fixed_nodes(self) -> list[int]:
         ...
     @fixed_nodes.setter
@@ -450,6 +458,8 @@ def extract_rotation(F: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, 
     """
     Rotation of F by the warm-startable iteration, started from the identity.
     """
+def failure_policy_names() -> list[str]:
+    ...
 def feedback_method_names() -> list[str]:
     """
     Every feedback method name.

@@ -17,6 +17,7 @@ TimeStepPolicyName = Literal["fixed", "online"]
 OnUnstableName = Literal["substep", "raise", "allow"]
 MassKind = Literal["consistent", "lumped"]
 FeedbackMethod = Literal["linear", "corotational", "averaged"]
+FailurePolicy = Literal["ignore", "warn", "raise"]
 
 MODELS: tuple[str, ...] = tuple(_core.model_names())
 CELL_TYPES: tuple[str, ...] = tuple(_core.cell_type_names())
@@ -27,6 +28,7 @@ TIME_STEP_POLICIES: tuple[str, ...] = tuple(_core.time_step_policy_names())
 ON_UNSTABLE: tuple[str, ...] = tuple(_core.on_unstable_names())
 MASS_KINDS: tuple[str, ...] = ("consistent", "lumped")
 FEEDBACK_METHODS: tuple[str, ...] = tuple(_core.feedback_method_names())
+FAILURE_POLICIES: tuple[str, ...] = tuple(_core.failure_policy_names())
 
 
 def check_choice(value: object, choices: tuple[str, ...], what: str) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -11,6 +12,31 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
 
+class SimulationWarning(UserWarning):
+    """A run that goes wrong without producing NaN: a stalled linear solve, inverted
+    elements, or energy growing while nothing drives the body (see Simulation's
+    ``on_failure``). Issued once per kind and simulation."""
+
+
+_FAILURES = (
+    (
+        "stalled_steps",
+        "the linear solve stalled at its iteration cap (relative residual >= 1) in {n} step(s): raise "
+        "PCG(max_iterations=...) or use a stronger preconditioner; the steps are not to be trusted",
+    ),
+    (
+        "inverted_steps",
+        "{n} step(s) started with inverted or flat elements (det F <= 0; {last} in the last one): the load or the "
+        "time step is too large for this mesh, or the material too soft",
+    ),
+    (
+        "energy_growth_steps",
+        "the total energy grew by more than 1 % per step in {n} step(s) while nothing drove the body: a run-away "
+        "(too few PCG iterations, or a time step too large for the linearised step)",
+    ),
+)
+
+
 class DrivenBody:
     """Base of Simulation and ExplicitSimulation. Subclasses set ``self._sim`` (the C++
     simulation), ``self.body`` and ``self._rest`` ((n, 3) rest positions)."""
@@ -18,6 +44,31 @@ class DrivenBody:
     _sim: Any  # corotate._core.Simulation
     body: Any  # Body or MassSpringBody
     _rest: np.ndarray
+    _warned: set[str]
+
+    def _set_failure_policy(self, on_failure: str) -> None:
+        self._sim.failure_policy = on_failure
+        self._warned = set()
+
+    @property
+    def on_failure(self) -> str:
+        """What a stalled solve, inverted elements or a run-away do: "warn" (a
+        SimulationWarning, once per kind), "raise" (RuntimeError, the state restored) or
+        "ignore". Settable."""
+        return str(self._sim.failure_policy)
+
+    @on_failure.setter
+    def on_failure(self, value: str) -> None:
+        self._set_failure_policy(value)
+
+    def _step(self, n: int) -> None:
+        self._sim.step(int(n))
+        stats = self._sim.stats
+        for key, text in _FAILURES:
+            if stats[key] > 0 and key not in self._warned:
+                self._warned.add(key)
+                message = text.format(n=stats[key], last=stats["inverted_elements"])
+                warnings.warn(message, SimulationWarning, stacklevel=3)
 
     @property
     def positions(self) -> np.ndarray:

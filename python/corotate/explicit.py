@@ -14,6 +14,7 @@ from .body import Body
 from .choices import (
     EXPLICIT_INTEGRATORS,
     ExplicitIntegratorName,
+    FailurePolicy,
     OnUnstableName,
     TimeStepPolicyName,
     check_choice,
@@ -69,6 +70,7 @@ class ExplicitSimulation(DrivenBody):
         safety: float = _DEFAULTS.safety,
         gravity: ArrayLike = (0.0, 0.0, 0.0),
         mass_damping: float = _DEFAULTS.mass_damping,
+        on_failure: FailurePolicy = "warn",
     ) -> None:
         if not isinstance(body, (MassSpringBody, Body)):
             raise TypeError("body must be a corotate.MassSpringBody or a corotate.Body")
@@ -90,6 +92,7 @@ class ExplicitSimulation(DrivenBody):
             model = body._force_model
         self._sim = _core.Simulation(model, _core.IntegratorSettings(**self._settings))
         self.gravity = gravity
+        self._set_failure_policy(on_failure)
 
     @staticmethod
     def _check_dt(dt: float | None) -> float:
@@ -171,7 +174,7 @@ class ExplicitSimulation(DrivenBody):
         Raises ValueError for non-finite state or loads and, with on_unstable="raise", when
         dt exceeds the stable step; RuntimeError when a step produces non-finite values.
         In every case the state is left exactly as it was before the call."""
-        self._sim.step(int(n))
+        self._step(n)
 
     def advance(self, duration: float) -> None:
         """Advance by duration [s] (needs dt set): round(duration / dt) steps."""

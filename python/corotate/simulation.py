@@ -9,7 +9,7 @@ import numpy as np
 import corotate._core as _core
 
 from .body import Body
-from .choices import IMPLICIT_INTEGRATORS, MASS_KINDS, ImplicitIntegratorName, MassKind, check_choice
+from .choices import IMPLICIT_INTEGRATORS, MASS_KINDS, FailurePolicy, ImplicitIntegratorName, MassKind, check_choice
 from .driven_body import DrivenBody
 from .solvers import PCG, Direct
 
@@ -54,6 +54,7 @@ class Simulation(DrivenBody):
         integrator: ImplicitIntegratorName = "linearized",
         newton_iterations: int = _DEFAULTS.newton_iterations,
         newton_tolerance: float = _DEFAULTS.newton_tolerance,
+        on_failure: FailurePolicy = "warn",
     ) -> None:
         if not isinstance(body, Body):
             raise TypeError("body must be a corotate.Body")
@@ -79,6 +80,7 @@ class Simulation(DrivenBody):
         self._sim = _core.Simulation(body._force_model, settings, kind, pcg)
         self._rest = body.mesh.points
         self.gravity = gravity
+        self._set_failure_policy(on_failure)
 
     @property
     def dt(self) -> float:
@@ -92,7 +94,7 @@ class Simulation(DrivenBody):
         Raises ValueError for non-finite positions, velocities or forces and RuntimeError
         when a step fails (non-finite result, solver breakdown); in both cases the state is
         left exactly as it was before the call."""
-        self._sim.step(int(n))
+        self._step(n)
 
     def solve_static(
         self,

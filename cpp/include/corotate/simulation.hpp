@@ -7,6 +7,20 @@
 // result, solver failure, an unstable time step that is refused) it throws and leaves
 // positions, velocities, time, statistics and the integrator's carried state (warm starts,
 // stability estimates) exactly as they were before the call.
+//
+// Loud failures. A run can go wrong without producing NaN; every implicit step checks, from
+// what its own evaluation computes anyway:
+//   - solver_stalled: the linear solve ended at its iteration cap with a relative residual
+//     of 1 or more (it did not reduce the residual at all: the step is garbage);
+//   - inverted: elements inverted or flat (det F <= 0) at the state the step started from;
+//   - energy_growth: the total energy (elastic + kinetic, with the lumped mass, minus the work
+//     potential of the loads) grew by more than 1 % of its size in one step while nothing
+//     drove the body (loads unchanged, fixed nodes at rest). Implicit Euler dissipates, so
+//     this is a run-away (too few PCG iterations, a linearised step far too large).
+// The last two are seen at the start of the next step (their data comes from its sweep). The
+// failure policy says what happens: Warn (the default) counts them in the stats, which the
+// Python layer turns into one warning per kind and run; Raise makes the step fail (state
+// restored); Ignore skips the checks.
 #pragma once
 
 #include <memory>
@@ -18,8 +32,15 @@
 
 namespace corotate {
 
+enum class FailurePolicy { Ignore, Warn, Raise };
+const std::vector<std::string>& failure_policy_names();  // "ignore", "warn", "raise"
+FailurePolicy failure_policy_from_name(const std::string& name);
+
 struct SimulationStats {
   StepStats last;                 // the most recent step
+  long long stalled_steps = 0;    // loud failures counted (see above)
+  long long inverted_steps = 0;
+  long long energy_growth_steps = 0;
   long long steps = 0;            // steps taken since the last reset_stats
   long long substeps = 0;         // explicit substeps in those steps (= steps for implicit ones)
   long long total_iterations = 0; // CG iterations
@@ -63,6 +84,8 @@ class Simulation {
   void set_settings(const IntegratorSettings& settings);
   const IntegratorSettings& settings() const { return integrator_->settings(); }
   void set_solver(std::unique_ptr<LinearSolver> solver);
+  void set_failure_policy(FailurePolicy policy) { failure_policy_ = policy; }
+  FailurePolicy failure_policy() const { return failure_policy_; }
   const BlockSparseMatrix& mass() const { return integrator_->mass(); }
 
   // Take n steps of settings().time_step.
@@ -90,6 +113,8 @@ class Simulation {
   StepInput input();
   ExplicitIntegrator& explicit_integrator();
   void record_estimates();
+  // The loud-failure checks of one step (see above); marks st, counts, throws under Raise.
+  void check_health(StepStats& st);
 
   std::unique_ptr<ForceModel> model_;
   std::unique_ptr<Integrator> integrator_;
@@ -100,6 +125,14 @@ class Simulation {
   FixedDofs fixed_;
   double time_ = 0;
   SimulationStats stats_;
+  FailurePolicy failure_policy_ = FailurePolicy::Warn;
+  Vec lumped_masses_;  // per node, for the kinetic energy of the energy check
+  struct EnergyCheck {
+    bool valid = false;
+    double total = 0;
+    Nodes load;
+    Nodes x_end, v_end;  // the state the last call left: a user who writes into it drives the body
+  } energy_check_, energy_check_backup_;
 };
 
 }  // namespace corotate

@@ -93,7 +93,17 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
   in.fixed.project(work_);
   double scale = reference.norm() + work_.norm() / dt;
   force_.setZero();
-  in.model.add_forces(in.x, force_);
+  {
+    Request what;  // forces at the start, with what the run-away checks use
+    what.forces = true;
+    what.energy = true;
+    what.count_inverted = true;
+    Results out;
+    out.forces = &force_;
+    in.model.evaluate(in.x, what, out);
+    stats.start_energy = out.energy;
+    stats.start_inverted = out.inverted;
+  }
   reference = as_dofs(force_);
   in.fixed.project(reference);
   scale = std::max({scale, reference.norm(), 1e-300});

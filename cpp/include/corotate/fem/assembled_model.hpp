@@ -202,6 +202,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       throw InvalidInput(std::string("the '") + Kernel::name +
                          "' model has no separate geometric stiffness (the hyperelastic models have one)");
     double energy = 0;
+    Index inverted = 0;
     NodeMatrix xe, ye, fe;
     Stiffness Ke;
     NodeScalars k;
@@ -210,6 +211,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       gather(x, e, xe);
       const typename Kernel::Frame frame = kernel_.frame(el, xe, caches_[e]);
       if (what.energy) energy += kernel_.energy(el, frame, xe);
+      if (what.count_inverted && !(kernel_.volume_ratio(el, xe) > 0)) ++inverted;
       bool have_model_stiffness = false;
       bool scattered = false;
       bool all_blocks = false;  // Ke is a non-symmetric tangent
@@ -257,6 +259,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
         scatter(e, what.stiffness_scale, Ke, *out.stiffness);
     }
     if (what.energy) out.energy = energy;
+    if (what.count_inverted) out.inverted = inverted;
   }
 }
 

@@ -47,6 +47,11 @@
 //   void geometric_stiffness(const Element&, const NodeMatrix& x, NodeScalars& k, Index e) const;
 //                                                             (if has_geometric_stiffness)
 //                                                             k_ab of the blocks k_ab I_3
+//   double volume_ratio(const Element&, const NodeMatrix& x) const;
+//                                                             det F (the smallest over the
+//                                                             points): <= 0 for an inverted or
+//                                                             flat element (not needed by
+//                                                             constant-stiffness kernels)
 // with NodeMatrix = Eigen::Matrix<double, 3, N>, Stiffness = 3N x 3N, NodeScalars = N x N.
 // Kernels are stateless apart from Cache, so one kernel object serves every element.
 #pragma once

@@ -8,6 +8,7 @@
 // velocities between steps prescribes their motion.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -69,6 +70,13 @@ struct StepStats {
   double substep = 0;
   double assembly_ms = 0, solve_ms = 0, estimate_ms = 0, total_ms = 0;
   int estimates = 0;                     // explicit: stability estimates made in this step
+  // What the step's own evaluation found at its start state x (implicit integrators; the
+  // simulation's loud-failure checks use them): elastic energy (NaN when not evaluated) and
+  // the number of inverted elements.
+  double start_energy = std::numeric_limits<double>::quiet_NaN();
+  Index start_inverted = 0;
+  // Set by Simulation: the loud failures of this step (see simulation.hpp).
+  bool solver_stalled = false, energy_growth = false;
 };
 
 class ExplicitIntegrator;

@@ -39,6 +39,7 @@ class CorotationalKernel<Tet4> {
     const QuadraturePoints<Tet4> p = quadrature_points<Tet4>(X, e, 1.0);  // one point: the centre
     return {p[0].G, p[0].w};
   }
+  double volume_ratio(const Element& el, const NodeMatrix& x) const { return Mat3(x * el.G).determinant(); }
   Frame frame(const Element& el, const NodeMatrix& x, Cache& cache) const {
     return {extract_rotation(Mat3(x * el.G), cache.q)};
   }

@@ -44,6 +44,10 @@ struct Request {
   // an implicit step gets its -K v term without a matrix-vector product. Needs stiffness
   // None or Model.
   const Nodes* forces_at = nullptr;
+  // Count the elements that are inverted or flat at x (det F <= 0 at the centre, or at a
+  // quadrature point): what a simulation reports as a loud failure. Models without a
+  // deformation gradient (linear, springs) count none.
+  bool count_inverted = false;
 };
 
 // Where evaluate() puts it. Forces and stiffness are added to what is there.
@@ -51,6 +55,7 @@ struct Results {
   double energy = 0;                       // set (not added) when requested
   Nodes* forces = nullptr;                 // 3 x n, += internal forces
   BlockSparseMatrix* stiffness = nullptr;  // in pattern(), += scale * K
+  Index inverted = 0;                      // set when count_inverted was requested
 };
 
 class ForceModel {

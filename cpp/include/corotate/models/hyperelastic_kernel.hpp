@@ -16,6 +16,8 @@
 // stiffness: static solves of a flat sheet need out-of-plane loads carried by tension.
 #pragma once
 
+#include <algorithm>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -54,6 +56,15 @@ class HyperelasticKernel {
 
   Element precompute(const NodeMatrix& X, Index e) const { return {quadrature_points<E>(X, e, thickness_)}; }
   Frame frame(const Element&, const NodeMatrix&, Cache&) const { return {}; }
+  double volume_ratio(const Element& el, const NodeMatrix& x) const {
+    if constexpr (D == 2) {
+      return 1.0;  // a membrane has no volume to invert; it may fold freely
+    } else {
+      double smallest = std::numeric_limits<double>::infinity();
+      for (const auto& p : el.points) smallest = std::min(smallest, Mat3(x * p.G).determinant());
+      return smallest;
+    }
+  }
   double energy(const Element& el, const Frame&, const NodeMatrix& x) const {
     double total = 0;
     for (const auto& p : el.points) total += p.w * law_.energy(Deformation(x * p.G));
