@@ -36,6 +36,7 @@ struct Options {
   int steps = 100;
   double dt = 0.01;
   bool lumped = false;
+  bool checks = true;  // the loud-failure checks (simulation.hpp); --no-checks: failure policy Ignore
   std::vector<std::string> configs = {"paper", "default"};
   PCGSettings custom;  // the 'custom' configuration, set by --preconditioner, --tolerance, --cap, --cold
 };
@@ -86,6 +87,7 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
   settings.time_step = opt.dt;
   settings.lumped_mass = opt.lumped;
   Simulation sim(make_model("corotational", "tetra", mesh.points, mesh.cells, material), settings, std::move(solver));
+  if (!opt.checks) sim.set_failure_policy(FailurePolicy::Ignore);
   const double x_min = mesh.points.row(0).minCoeff(), x_max = mesh.points.row(0).maxCoeff();
   std::vector<Index> fixed, tip;
   for (Index i = 0; i < mesh.points.cols(); ++i) {
@@ -142,6 +144,7 @@ void usage() {
       "  --steps N           steps per run (default 100)\n"
       "  --dt SECONDS        time step (default 0.01)\n"
       "  --lumped            lumped instead of consistent mass\n"
+      "  --no-checks         skip the loud-failure checks (failure policy ignore; default: warn)\n"
       "  --preconditioner P, --tolerance T, --cap N, --cold\n"
       "                      settings of the 'custom' configuration (none, jacobi, block_jacobi,\n"
       "                      reference_factor, two_level; default block_jacobi, 1e-6, 20, warm start)\n"
@@ -184,6 +187,7 @@ int main(int argc, char** argv) {
       else if (arg == "--steps") opt.steps = std::stoi(value());
       else if (arg == "--dt") opt.dt = std::stod(value());
       else if (arg == "--lumped") opt.lumped = true;
+      else if (arg == "--no-checks") opt.checks = false;
       else if (arg == "--preconditioner") opt.custom.preconditioner = preconditioner_kind_from_name(value());
       else if (arg == "--tolerance") opt.custom.tolerance = std::stod(value());
       else if (arg == "--cap") opt.custom.max_iterations = std::stoi(value());
@@ -201,8 +205,8 @@ int main(int argc, char** argv) {
             bench::structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
 
     std::printf(
-        "scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, one thread\n",
-        opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent");
+        "scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, one thread\n",
+        opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent", opt.checks ? "loud-failure checks" : "no checks");
     std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s\n", "mesh", "tets", "config", "precmp_ms",
                 "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]");
     for (const auto& [label, mesh] : meshes) {

@@ -81,7 +81,9 @@ void Simulation::check_health(StepStats& st) {
   stats_.energy_growth_steps += st.energy_growth;
 }
 
-StepInput Simulation::input() { return {*model_, x_, v_, load_, fixed_, *solver_}; }
+StepInput Simulation::input() {
+  return {*model_, x_, v_, load_, fixed_, *solver_, failure_policy_ != FailurePolicy::Ignore};
+}
 
 void Simulation::rebuild_gravity_forces() {
   // Consistent body-force load: M (1 (x) g). With a lumped mass it is m_i g per node.

@@ -29,8 +29,8 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     system_.assign_scaled(1 + dt * alpha, mass_);
     Request what;
     what.forces = true;
-    what.energy = true;  // at x, in the same sweep: for the simulation's run-away checks
-    what.count_inverted = true;
+    what.energy = in.diagnose;  // at x, in the same sweep: for the simulation's run-away checks
+    what.count_inverted = in.diagnose;
     what.forces_at = &y_;
     what.stiffness = StiffnessKind::Model;
     what.stiffness_scale = dt * dt + dt * beta;
@@ -38,8 +38,10 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     out.forces = &force_;
     out.stiffness = &system_;
     in.model.evaluate(in.x, what, out);
-    stats.start_energy = out.energy;
-    stats.start_inverted = out.inverted;
+    if (in.diagnose) {
+      stats.start_energy = out.energy;
+      stats.start_inverted = out.inverted;
+    }
     rhs_ = dt * as_dofs(force_);
     if (alpha != 0) {
       mass_.multiply(as_dofs(in.v), work_);

@@ -96,13 +96,15 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
   {
     Request what;  // forces at the start, with what the run-away checks use
     what.forces = true;
-    what.energy = true;
-    what.count_inverted = true;
+    what.energy = in.diagnose;
+    what.count_inverted = in.diagnose;
     Results out;
     out.forces = &force_;
     in.model.evaluate(in.x, what, out);
-    stats.start_energy = out.energy;
-    stats.start_inverted = out.inverted;
+    if (in.diagnose) {
+      stats.start_energy = out.energy;
+      stats.start_inverted = out.inverted;
+    }
   }
   reference = as_dofs(force_);
   in.fixed.project(reference);

@@ -211,7 +211,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       gather(x, e, xe);
       const typename Kernel::Frame frame = kernel_.frame(el, xe, caches_[e]);
       if (what.energy) energy += kernel_.energy(el, frame, xe);
-      if (what.count_inverted && !(kernel_.volume_ratio(el, xe) > 0)) ++inverted;
+      if (what.count_inverted && !(kernel_.volume_ratio(el, frame, xe) > 0)) ++inverted;
       bool have_model_stiffness = false;
       bool scattered = false;
       bool all_blocks = false;  // Ke is a non-symmetric tangent

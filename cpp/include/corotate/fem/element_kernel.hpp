@@ -47,7 +47,7 @@
 //   void geometric_stiffness(const Element&, const NodeMatrix& x, NodeScalars& k, Index e) const;
 //                                                             (if has_geometric_stiffness)
 //                                                             k_ab of the blocks k_ab I_3
-//   double volume_ratio(const Element&, const NodeMatrix& x) const;
+//   double volume_ratio(const Element&, const Frame&, const NodeMatrix& x) const;
 //                                                             det F (the smallest over the
 //                                                             points): <= 0 for an inverted or
 //                                                             flat element (not needed by

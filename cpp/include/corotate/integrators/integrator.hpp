@@ -59,6 +59,7 @@ struct StepInput {
   const Nodes& load;  // 3 x n external forces, gravity included
   const FixedDofs& fixed;
   LinearSolver& solver;
+  bool diagnose = true;  // compute what the loud-failure checks need (start energy, inversions)
 };
 
 struct StepStats {

@@ -75,7 +75,9 @@ class CorotationalKernel {
   Element precompute(const NodeMatrix& X, Index e) const {
     return {linear_stiffness<E>(quadrature_points<E>(X, e, 1.0), material_), X, centre_gradient<E>(X, e)};
   }
-  double volume_ratio(const Element& el, const NodeMatrix& x) const { return Mat3(x * el.G).determinant(); }
+  double volume_ratio(const Element& el, const Frame&, const NodeMatrix& x) const {
+    return Mat3(x * el.G).determinant();
+  }
   Frame frame(const Element& el, const NodeMatrix& x, Cache& cache) const {
     return {extract_rotation(Mat3(x * el.G), cache.q)};
   }

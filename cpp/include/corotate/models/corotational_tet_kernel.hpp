@@ -27,6 +27,7 @@ class CorotationalKernel<Tet4> {
   };
   struct Frame {
     Mat3 R;
+    Mat3 F;  // at the frame's positions: energy and det F there need no second product
   };
   struct Cache {
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
@@ -39,12 +40,15 @@ class CorotationalKernel<Tet4> {
     const QuadraturePoints<Tet4> p = quadrature_points<Tet4>(X, e, 1.0);  // one point: the centre
     return {p[0].G, p[0].w};
   }
-  double volume_ratio(const Element& el, const NodeMatrix& x) const { return Mat3(x * el.G).determinant(); }
+  double volume_ratio(const Element&, const Frame& fr, const NodeMatrix&) const { return fr.F.determinant(); }
   Frame frame(const Element& el, const NodeMatrix& x, Cache& cache) const {
-    return {extract_rotation(Mat3(x * el.G), cache.q)};
+    const Mat3 F = x * el.G;
+    return {extract_rotation(F, cache.q), F};
   }
-  double energy(const Element& el, const Frame& fr, const NodeMatrix& x) const {
-    const Mat3 strain = unrotated_strain(el, fr.R, x);
+  double energy(const Element& el, const Frame& fr, const NodeMatrix&) const {  // at the frame's positions
+    Mat3 strain = fr.R.transpose() * fr.F;
+    strain = 0.5 * (strain + strain.transpose()).eval();
+    strain.diagonal().array() -= 1.0;
     return 0.5 * el.volume * strain.cwiseProduct(stress(strain)).sum();
   }
   void forces(const Element& el, const Frame& fr, const NodeMatrix& x, NodeMatrix& f) const {

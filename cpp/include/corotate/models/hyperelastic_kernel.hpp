@@ -56,7 +56,7 @@ class HyperelasticKernel {
 
   Element precompute(const NodeMatrix& X, Index e) const { return {quadrature_points<E>(X, e, thickness_)}; }
   Frame frame(const Element&, const NodeMatrix&, Cache&) const { return {}; }
-  double volume_ratio(const Element& el, const NodeMatrix& x) const {
+  double volume_ratio(const Element& el, const Frame&, const NodeMatrix& x) const {
     if constexpr (D == 2) {
       return 1.0;  // a membrane has no volume to invert; it may fold freely
     } else {
