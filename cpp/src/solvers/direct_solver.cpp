@@ -14,11 +14,7 @@ SolveStats DirectSolver::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x)
         "direct solver: the system matrix is not positive definite "
         "(an unconstrained body under a static load, or a non-physical material?)");
   x = ldlt_.solve(b);
-  residual_.resize(b.size());
-  A.multiply(x, residual_);
-  residual_ -= b;
-  const double bn = b.norm();
-  return {0, bn > 0 ? residual_.norm() / bn : residual_.norm(), true};
+  return {0, relative_residual(A, b, x, residual_), true};
 }
 
 }  // namespace corotate

@@ -12,11 +12,7 @@ SolveStats LuSolver::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   lu_.factorize(scalar_);
   if (lu_.info() != Eigen::Success) throw SolverFailure("LU solver: the system matrix is singular");
   x = lu_.solve(b);
-  residual_.resize(b.size());
-  A.multiply(x, residual_);
-  residual_ -= b;
-  const double bn = b.norm();
-  return {0, bn > 0 ? residual_.norm() / bn : residual_.norm(), true};
+  return {0, relative_residual(A, b, x, residual_), true};
 }
 
 }  // namespace corotate

@@ -11,6 +11,16 @@ struct SolveStats {
   bool converged = true;           // tolerance met (a capped CG may stop before)
 };
 
+// |b - A x| / |b| (|b - A x| when b = 0), what every solver reports; work: any vector,
+// resized to the system (no allocation after the first call).
+inline double relative_residual(const BlockSparseMatrix& A, const Vec& b, const Vec& x, Vec& work) {
+  work.resize(b.size());
+  A.multiply(x, work);
+  work -= b;
+  const double bn = b.norm();
+  return bn > 0 ? work.norm() / bn : work.norm();
+}
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
