@@ -22,6 +22,22 @@ void Material::validate() const {
     msg << "density must be positive and finite, got rho = " << density;
     fail(msg.str());
   }
+  const double lambda = lame_lambda(), mu = lame_mu();
+  if (!std::isfinite(lambda) || !std::isfinite(mu) || !std::isfinite(youngs_modulus * youngs_modulus)) {
+    msg << "Young's modulus E = " << youngs_modulus << " (nu = " << poisson_ratio
+        << ") is too large: the Lame parameters or products of stiffnesses (E^2) overflow a double; "
+           "give E in Pa (realistic values are below 1e13)";
+    fail(msg.str());
+  }
+  const double bulk = youngs_modulus / (3 * (1 - 2 * poisson_ratio));
+  if (lambda / mu > max_modulus_ratio || mu / bulk > max_modulus_ratio) {
+    msg.precision(17);
+    msg << "Poisson ratio nu = " << poisson_ratio << " is too close to "
+        << (poisson_ratio > 0 ? "0.5: lambda/mu = " : "-1: mu/K = ") << (poisson_ratio > 0 ? lambda / mu : mu / bulk)
+        << " exceeds " << max_modulus_ratio
+        << ", which makes the stiffness too ill-conditioned to solve (nu must lie in [-0.9999955, 0.4999995])";
+    fail(msg.str());
+  }
 }
 
 double Material::lame_lambda() const {

@@ -27,6 +27,21 @@ TEST(other_bad_parameters_are_rejected) {
   CHECK_THROWS((Material{std::numeric_limits<double>::infinity(), 0.3, 1000.0}.validate()), InvalidInput);
 }
 
+TEST(ill_conditioned_and_overflowing_parameters_are_rejected) {
+  CHECK_THROWS((Material{1e6, std::nextafter(0.5, 0.0), 1000.0}.validate()), InvalidInput);
+  CHECK_THROWS((Material{1e6, 0.49999999, 1000.0}.validate()), InvalidInput);
+  CHECK_THROWS((Material{1e6, std::nextafter(-1.0, 0.0), 1000.0}.validate()), InvalidInput);
+  CHECK_THROWS((Material{1e308, 0.3, 1000.0}.validate()), InvalidInput);
+  CHECK_THROWS((Material{1e200, 0.3, 1000.0}.validate()), InvalidInput);  // E^2 overflows
+  try {
+    Material{1e6, std::nextafter(0.5, 0.0), 1000.0}.validate();
+  } catch (const InvalidInput& e) {
+    CHECK(std::string(e.what()).find("lambda/mu") != std::string::npos);
+  }
+  Material{1e6, 0.499999, 1.0}.validate();  // lambda/mu = 5e5: accepted
+  Material{1e13, 0.3, 1.0}.validate();
+}
+
 TEST(valid_parameters_pass_and_give_the_lame_constants) {
   const Material m{2.6e6, 0.3, 1000.0};
   m.validate();
