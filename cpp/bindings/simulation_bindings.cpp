@@ -5,6 +5,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
+
 #include "conversions.hpp"
 #include "corotate/models/explicit_traits.hpp"
 #include "corotate/simulation.hpp"
@@ -143,7 +145,10 @@ void bind_simulation(py::module_& m) {
           "external_forces",
           [](py::object self) { return node_view(self.cast<Simulation&>().external_forces(), self); })
       .def_property_readonly("accelerations",
-                             [](const Simulation& s) { return Eigen::MatrixXd(s.accelerations().transpose()); })
+                             [](const Simulation& s) {
+                               const Simulation::Claim claim(s, "reading the accelerations");
+                               return Eigen::MatrixXd(s.accelerations().transpose());
+                             })
       .def_property_readonly("gravity_forces",
                              [](const Simulation& s) { return Eigen::MatrixXd(s.gravity_forces().transpose()); })
       .def_property_readonly("time", &Simulation::time)
@@ -162,7 +167,27 @@ void bind_simulation(py::module_& m) {
             s.set_solver(make_solver(solver, pcg));
           },
           py::arg("solver"), py::arg("pcg") = PCGSettings{})
-      .def("step", &Simulation::step, py::arg("n") = 1, py::call_guard<py::gil_scoped_release>())
+      .def(
+          "step",
+          [](Simulation& s, int n) {
+            // The GIL is released for the steps; between two of them, at most every 20 ms, the
+            // signal handlers run (Ctrl-C): a KeyboardInterrupt fails the call, and the state
+            // is restored to what it was before it, as for every failure.
+            using Clock = std::chrono::steady_clock;
+            Clock::time_point last = Clock::now();
+            const auto check_signals = [&last] {
+              if (Clock::now() - last < std::chrono::milliseconds(20)) return;
+              py::gil_scoped_acquire gil;
+              if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+              last = Clock::now();
+            };
+            py::gil_scoped_release release;
+            s.step(n, check_signals);
+          },
+          py::arg("n") = 1, "Take n steps; interruptible between steps (Ctrl-C restores the state of before the call).")
+      .def("reset", &Simulation::reset,
+           "Back to the rest state (positions = rest, velocities, external forces and time zero, stats and "
+           "warm starts cleared); fixed nodes, gravity and settings are kept.")
       .def(
           "solve_static",
           [](Simulation& s, int load_steps, double tolerance, int max_iterations,
@@ -183,6 +208,7 @@ void bind_simulation(py::module_& m) {
           py::arg("max_iterations") = StaticSettings{}.max_iterations, py::arg("prescribed") = py::none())
       .def("internal_forces",
            [](Simulation& s) {
+             const Simulation::Claim claim(s, "internal_forces");
              Nodes f = Nodes::Zero(3, s.num_nodes());
              s.model().add_forces(s.positions(), f);
              return Eigen::MatrixXd(f.transpose());
@@ -190,6 +216,7 @@ void bind_simulation(py::module_& m) {
       .def("damping_forces",
            [](Simulation& s) {
              // The model's own damping forces: all explicit forces at (x, v) minus the elastic ones.
+             const Simulation::Claim claim(s, "damping_forces");
              Nodes f = Nodes::Zero(3, s.num_nodes());
              if (const ExplicitTraits* traits = s.model().explicit_traits()) {
                traits->add_forces_and_damping(s.positions(), s.velocities(), f);
@@ -199,7 +226,11 @@ void bind_simulation(py::module_& m) {
              }
              return Eigen::MatrixXd(f.transpose());
            })
-      .def("energy", [](Simulation& s) { return s.model().energy(s.positions()); })
+      .def("energy",
+           [](Simulation& s) {
+             const Simulation::Claim claim(s, "energy");
+             return s.model().energy(s.positions());
+           })
       .def("kinetic_energy", &Simulation::kinetic_energy)
       .def(
           "mass_csr", [](const Simulation& s) { return to_csr(s.mass()); },
@@ -208,6 +239,10 @@ void bind_simulation(py::module_& m) {
       .def(
           "estimate_stability", [](Simulation& s, bool bound) { return stability_dict(s.estimate_stability(bound)); },
           py::arg("bound"))
-      .def_property_readonly("stats", [](const Simulation& s) { return stats_dict(s.stats()); })
+      .def_property_readonly("stats",
+                             [](const Simulation& s) {
+                               const Simulation::Claim claim(s, "reading the stats");
+                               return stats_dict(s.stats());
+                             })
       .def("reset_stats", &Simulation::reset_stats);
 }

@@ -41,6 +41,12 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettin
   rebuild_gravity_forces();
 }
 
+Simulation::Claim::Claim(const Simulation& sim, const char* what) : busy_(sim.busy_) {
+  if (busy_.exchange(true, std::memory_order_acquire))
+    throw SimulationBusy(std::string("the simulation is busy: ") + what +
+                         " called from another thread while a step runs (one call at a time per simulation)");
+}
+
 void Simulation::check_health(StepStats& st) {
   if (failure_policy_ == FailurePolicy::Ignore) return;
   std::ostringstream problem;
@@ -97,12 +103,14 @@ void Simulation::rebuild_gravity_forces() {
 }
 
 void Simulation::set_gravity(const Vec3& g) {
+  const Claim claim(*this, "setting gravity");
   if (!g.allFinite()) throw InvalidInput("gravity must be finite");
   gravity_ = g;
   rebuild_gravity_forces();
 }
 
 void Simulation::set_fixed_nodes(const std::vector<Index>& nodes) {
+  const Claim claim(*this, "fixing nodes");
   const Index n = num_nodes();
   std::vector<char> flags(3 * n, 0);
   for (Index i : nodes) {
@@ -119,19 +127,51 @@ void Simulation::set_fixed_nodes(const std::vector<Index>& nodes) {
   solver_->reset();  // a cached factorization belongs to the old constraints
 }
 
-void Simulation::set_settings(const IntegratorSettings& settings) {
+std::unique_ptr<Integrator> Simulation::make_attached_integrator(const IntegratorSettings& settings) const {
   auto integrator = make_integrator(settings);  // validates before anything changes
   integrator->attach(*model_);
   integrator->constraints_changed(fixed_);
-  integrator_ = std::move(integrator);
+  return integrator;
+}
+
+void Simulation::set_settings(const IntegratorSettings& settings) {
+  const Claim claim(*this, "changing the settings");
+  integrator_ = make_attached_integrator(settings);
   solver_->reset();
   rebuild_gravity_forces();
 }
 
 void Simulation::set_solver(std::unique_ptr<LinearSolver> solver) {
+  const Claim claim(*this, "changing the solver");
   if (!solver) throw InvalidInput("Simulation needs a linear solver");
   solver->set_geometry(model_->rest_positions());
   solver_ = std::move(solver);
+}
+
+void Simulation::set_failure_policy(FailurePolicy policy) {
+  const Claim claim(*this, "changing the failure policy");
+  failure_policy_ = policy;
+}
+
+void Simulation::reset_stats() {
+  const Claim claim(*this, "reset_stats");
+  stats_ = {};
+}
+
+void Simulation::reset() {
+  const Claim claim(*this, "reset");
+  auto integrator = make_attached_integrator(integrator_->settings());  // fresh carried state
+  integrator_ = std::move(integrator);
+  solver_->reset();
+  model_->reset_caches();
+  x_ = model_->rest_positions();
+  v_.setZero();
+  a_.setZero();
+  f_ext_.setZero();
+  time_ = 0;
+  stats_ = {};
+  energy_check_ = {};
+  energy_check_backup_ = {};
 }
 
 void Simulation::record_estimates() {
@@ -142,7 +182,8 @@ void Simulation::record_estimates() {
   }
 }
 
-void Simulation::step(int n) {
+void Simulation::step(int n, const std::function<void()>& between_steps) {
+  const Claim claim(*this, "step");
   if (n < 0) throw InvalidInput("step count must be non-negative");
   check_finite_state(x_, v_, f_ext_);
   x_backup_ = x_;  // restored if any of the n steps fails (no allocation after the first call)
@@ -181,6 +222,7 @@ void Simulation::step(int n) {
       stats_.wall_ms += st.total_ms;
       stats_.last = std::move(st);
       record_estimates();
+      if (between_steps && s + 1 < n) between_steps();
     }
     if (failure_policy_ != FailurePolicy::Ignore) {
       energy_check_.x_end = x_;
@@ -200,6 +242,7 @@ void Simulation::step(int n) {
 }
 
 StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed) {
+  const Claim claim(*this, "solve_static");
   check_finite_state(x_, v_, f_ext_);
   x_backup_ = x_;
   model_->save_caches();
@@ -225,6 +268,7 @@ ExplicitIntegrator& Simulation::explicit_integrator() {
 }
 
 const StabilityEstimate& Simulation::stability() {
+  const Claim claim(*this, "a stability estimate");
   ExplicitIntegrator& e = explicit_integrator();
   const StabilityEstimate& est = e.stability(input());
   record_estimates();
@@ -232,6 +276,7 @@ const StabilityEstimate& Simulation::stability() {
 }
 
 StabilityEstimate Simulation::estimate_stability(bool bound) {
+  const Claim claim(*this, "a stability estimate");
   ExplicitIntegrator& e = explicit_integrator();
   const StabilityEstimate est = e.estimate_stability(input(), bound);
   record_estimates();
@@ -239,6 +284,7 @@ StabilityEstimate Simulation::estimate_stability(bool bound) {
 }
 
 double Simulation::kinetic_energy() const {
+  const Claim claim(*this, "kinetic_energy");
   Vec mv(v_.size());
   integrator_->mass().multiply(as_dofs(v_), mv);
   return 0.5 * as_dofs(v_).dot(mv);

@@ -341,6 +341,10 @@ class Simulation:
         """
         The integrator's mass matrix as a CSR triple.
         """
+    def reset(self) -> None:
+        """
+        Back to the rest state (positions = rest, velocities, external forces and time zero, stats and warm starts cleared); fixed nodes, gravity and settings are kept.
+        """
     def reset_stats(self) -> None:
         ...
     def set_solver(self, solver: str, pcg: PCGSettings = ...) -> None:
@@ -350,7 +354,9 @@ class Simulation:
     def stability(self) -> dict:
         ...
     def step(self, n: typing.SupportsInt | typing.SupportsIndex = 1) -> None:
-        ...
+        """
+        Take n steps; interruptible between steps (Ctrl-C restores the state of before the call).
+        """
     @property
     def accelerations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...

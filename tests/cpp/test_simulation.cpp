@@ -93,3 +93,57 @@ TEST(settings_are_validated_before_anything_changes) {
   CHECK_THROWS(sim->stability(), InvalidInput);  // implicit: no explicit stability limit
   CHECK_THROWS(integrator_from_name("rk4"), InvalidInput);
 }
+
+TEST(reset_repeats_a_fresh_run_and_keeps_fixed_nodes_and_gravity) {
+  for (const auto& name : integrator_names()) {
+    auto sim = beam(integrator_from_name(name));
+    sim->external_forces().col(0) = Vec3(1, 2, 3);
+    sim->step(4);
+    sim->reset();
+    CHECK(sim->time() == 0.0 && sim->stats().steps == 0);
+    CHECK((sim->positions() - sim->model().rest_positions()).norm() == 0.0);
+    CHECK(sim->velocities().norm() == 0.0 && sim->external_forces().norm() == 0.0);
+    CHECK(!sim->fixed_nodes().empty() && sim->gravity().z() == -9.81);
+    sim->step(3);
+    auto fresh = beam(integrator_from_name(name));
+    fresh->step(3);
+    CHECK((sim->positions() - fresh->positions()).norm() == 0.0);
+  }
+}
+
+TEST(a_claimed_simulation_refuses_every_mutating_call) {
+  auto sim = beam(IntegratorKind::Linearized);
+  {
+    const Simulation::Claim claim(*sim, "a test");
+    CHECK_THROWS(sim->step(1), SimulationBusy);
+    CHECK_THROWS(sim->set_gravity(Vec3::Zero()), SimulationBusy);
+    CHECK_THROWS(sim->set_fixed_nodes({}), SimulationBusy);
+    CHECK_THROWS(sim->set_settings(sim->settings()), SimulationBusy);
+    CHECK_THROWS(sim->set_solver(std::make_unique<PCG>()), SimulationBusy);
+    CHECK_THROWS(sim->reset(), SimulationBusy);
+    CHECK_THROWS(sim->solve_static({}), SimulationBusy);
+    try {
+      sim->step(1);
+    } catch (const SimulationBusy& e) {
+      CHECK(std::string(e.what()).find("the simulation is busy: step called from another thread") != std::string::npos);
+    }
+  }
+  sim->step(1);  // released
+  CHECK(sim->stats().steps == 1);
+}
+
+TEST(an_interruption_between_steps_restores_the_state) {
+  auto sim = beam(IntegratorKind::Linearized);
+  sim->step(2);
+  const Nodes x = sim->positions();
+  const double t = sim->time();
+  int calls = 0;
+  CHECK_THROWS(sim->step(10,
+                         [&calls] {
+                           if (++calls == 3) throw std::runtime_error("interrupted");
+                         }),
+               std::runtime_error);
+  CHECK(calls == 3 && sim->time() == t && sim->stats().steps == 2);
+  CHECK((sim->positions() - x).norm() == 0.0);
+  sim->step(1);
+}

@@ -36,6 +36,11 @@ enum class FailurePolicy { Ignore, Warn, Raise };
 const std::vector<std::string>& failure_policy_names();  // "ignore", "warn", "raise"
 FailurePolicy failure_policy_from_name(const std::string& name);
 
+// A call that reached a simulation while another thread's call (a step) holds it: RuntimeError.
+struct SimulationBusy : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct SimulationStats {
   StepStats last;                 // the most recent step
   long long stalled_steps = 0;    // loud failures counted (see above)
@@ -58,6 +63,22 @@ class Simulation {
   // solver: for implicit integrators; null = PCG with its default settings.
   Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettings& settings,
              std::unique_ptr<LinearSolver> solver = nullptr);
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Claims the simulation for one call (what every mutating member does itself); throws
+  // SimulationBusy naming `what` when another thread's call holds it. For callers that use
+  // model() or several members as one operation (the Python bindings).
+  class Claim {
+   public:
+    Claim(const Simulation& sim, const char* what);
+    ~Claim() { busy_.store(false, std::memory_order_release); }
+    Claim(const Claim&) = delete;
+    Claim& operator=(const Claim&) = delete;
+
+   private:
+    std::atomic<bool>& busy_;
+  };
 
   ForceModel& model() { return *model_; }
   Index num_nodes() const { return model_->num_nodes(); }
@@ -83,13 +104,23 @@ class Simulation {
   // A new integrator (validated first; on InvalidInput nothing changes).
   void set_settings(const IntegratorSettings& settings);
   const IntegratorSettings& settings() const { return integrator_->settings(); }
+  // A new linear solver (it factorizes or builds its preconditioner afresh); the integrator's
+  // warm start (the last step's answer) stays the initial guess of the next solve.
   void set_solver(std::unique_ptr<LinearSolver> solver);
-  void set_failure_policy(FailurePolicy policy) { failure_policy_ = policy; }
+  void set_failure_policy(FailurePolicy policy);
   FailurePolicy failure_policy() const { return failure_policy_; }
   const BlockSparseMatrix& mass() const { return integrator_->mass(); }
 
-  // Take n steps of settings().time_step.
-  void step(int n = 1);
+  // Take n steps of settings().time_step. between_steps (optional) is called after every
+  // step but the last; whatever it throws (an interruption) fails the call like any failure:
+  // the state is restored to what it was before the call.
+  void step(int n = 1, const std::function<void()>& between_steps = {});
+
+  // Back to the rest state: positions = rest, velocities, accelerations and external forces
+  // zero, time 0, statistics reset, the integrator's carried state (warm starts, stability
+  // estimates), the solver's factorizations and the model's rotation caches cleared. The fixed
+  // nodes, gravity, settings, solver kind and failure policy are kept.
+  void reset();
 
   // Static equilibrium under external forces and gravity; velocities become zero.
   // prescribed (3 x n, optional): end positions of the fixed nodes, reached in the load steps
@@ -106,10 +137,11 @@ class Simulation {
   // Total force the body's mass feels from gravity (M g per DOF, with the integrator's mass).
   const Nodes& gravity_forces() const { return gravity_forces_; }
   const SimulationStats& stats() const { return stats_; }
-  void reset_stats() { stats_ = {}; }
+  void reset_stats();
 
  private:
   void rebuild_gravity_forces();
+  std::unique_ptr<Integrator> make_attached_integrator(const IntegratorSettings& settings) const;
   StepInput input();
   ExplicitIntegrator& explicit_integrator();
   void record_estimates();
@@ -133,6 +165,7 @@ class Simulation {
     Nodes load;
     Nodes x_end, v_end;  // the state the last call left: a user who writes into it drives the body
   } energy_check_, energy_check_backup_;
+  mutable std::atomic<bool> busy_{false};  // see Claim
 };
 
 }  // namespace corotate

@@ -55,6 +55,9 @@ class AssembledModel final : public ForceModel {
     if constexpr (!std::is_empty_v<typename Kernel::Cache>)
       if (saved_caches_.size() == caches_.size()) caches_ = saved_caches_;
   }
+  void reset_caches() override {
+    if constexpr (!std::is_empty_v<typename Kernel::Cache>) caches_.assign(caches_.size(), typename Kernel::Cache{});
+  }
 
  private:
   static const Material& validated(const Material& m) {

@@ -90,6 +90,7 @@ class ForceModel {
   // them after a failed call, so a retried run matches one that never failed bit for bit.
   virtual void save_caches() {}
   virtual void restore_caches() {}
+  virtual void reset_caches() {}  // back to the state of a fresh model (Simulation::reset)
 
   // --- Conveniences over evaluate(). ---
   double energy(const Nodes& x);
