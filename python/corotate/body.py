@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 import scipy.sparse as sp
 
 import corotate._core as _core
 
+from ._attributes import SettableOnly
 from .choices import MODELS, ModelName
 from .material import Material
 from .mesh import Mesh
@@ -25,7 +26,10 @@ def _csr(triple: tuple[np.ndarray, np.ndarray, np.ndarray], n_dofs: int) -> sp.c
     return sp.csr_matrix((data, indices, indptr), shape=(n_dofs, n_dofs))
 
 
-class Body:
+_IMMUTABLE = "a Body is immutable after construction (simulations step copies of its model); create a new Body"
+
+
+class Body(SettableOnly):
     """A mesh of one cell type with a material and a force model.
 
     mesh      Mesh (tetra, hexahedron or hexahedron20 cells; triangle cells for sheets)
@@ -45,7 +49,14 @@ class Body:
 
     Element matrices are computed when the body is created; degenerate or inverted
     elements (zero-area triangles) raise ValueError naming the element.
+
+    A Body is immutable: mesh, material, model, thickness and project_psd are read-only
+    (assigning raises AttributeError); for another material create a new Body.
     """
+
+    _READ_ONLY_HINTS: ClassVar[dict[str, str]] = {
+        name: _IMMUTABLE for name in ("mesh", "material", "model", "thickness", "project_psd", "n_nodes")
+    }
 
     def __init__(
         self,
@@ -67,11 +78,11 @@ class Body:
             raise ValueError(f"thickness applies to triangle sheets only, not to {mesh.cell_type!r} cells")
         if project_psd and model not in HYPERELASTIC_MODELS:
             raise ValueError(f"project_psd applies to the hyperelastic models {HYPERELASTIC_MODELS}, not {model!r}")
-        self.mesh = mesh
-        self.material = material
-        self.model = model
-        self.thickness = thickness
-        self.project_psd = bool(project_psd)
+        self._mesh = mesh
+        self._material = material
+        self._model = model
+        self._thickness = thickness
+        self._project_psd = bool(project_psd)
         # The C++ model (precomputed element data); every simulation steps its own copy.
         self._force_model = _core.ForceModel(
             model,
@@ -80,8 +91,33 @@ class Body:
             mesh.cells,
             material._core(),
             thickness=1.0 if thickness is None else thickness,
-            project_psd=self.project_psd,
+            project_psd=self._project_psd,
         )
+
+    @property
+    def mesh(self) -> Mesh:
+        """The mesh (read-only)."""
+        return self._mesh
+
+    @property
+    def material(self) -> Material:
+        """The material (read-only: a new material needs a new Body)."""
+        return self._material
+
+    @property
+    def model(self) -> str:
+        """The force model's name (read-only)."""
+        return self._model
+
+    @property
+    def thickness(self) -> float | None:
+        """Sheet thickness [m] of triangle meshes, None for solids (read-only)."""
+        return self._thickness
+
+    @property
+    def project_psd(self) -> bool:
+        """Whether element stiffnesses are PSD-projected (read-only)."""
+        return self._project_psd
 
     @property
     def n_nodes(self) -> int:

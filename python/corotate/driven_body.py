@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import warnings
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 import scipy.sparse as sp
+
+from ._attributes import SettableOnly
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -37,14 +39,39 @@ _FAILURES = (
 )
 
 
-class DrivenBody:
+_VIEW_HINT = "write into the view instead, e.g. sim.{name}[:] = values"
+
+
+class DrivenBody(SettableOnly):
     """Base of Simulation and ExplicitSimulation. Subclasses set ``self._sim`` (the C++
-    simulation), ``self.body`` and ``self._rest`` ((n, 3) rest positions)."""
+    simulation), ``self._body`` and ``self._rest`` ((n, 3) rest positions).
+
+    Every public attribute either takes effect when assigned (gravity, on_failure, dt, ...)
+    or is read-only and raises AttributeError.
+
+    Threads: one call at a time per simulation. step() releases the GIL; a call from another
+    thread while it runs (fix, gravity, step, reset, stats, ...) raises RuntimeError("the
+    simulation is busy: ...") instead of racing it. The NumPy views (positions, velocities,
+    external_forces) cannot be guarded: do not write into them while another thread steps."""
 
     _sim: Any  # corotate._core.Simulation
-    body: Any  # Body or MassSpringBody
+    _body: Any  # Body or MassSpringBody
     _rest: np.ndarray
     _warned: set[str]
+    _READ_ONLY_HINTS: ClassVar[dict[str, str]] = {
+        "time": "it advances with step(); reset() goes back to t = 0",
+        "body": "a simulation steps its own copy of the body's model; create a new simulation for another body",
+        "positions": _VIEW_HINT.format(name="positions"),
+        "velocities": _VIEW_HINT.format(name="velocities"),
+        "external_forces": _VIEW_HINT.format(name="external_forces"),
+        "fixed_nodes": "use fix(nodes) or free()",
+        "stats": "reset_stats() starts them afresh",
+    }
+
+    @property
+    def body(self) -> Any:
+        """The body simulated (read-only)."""
+        return self._body
 
     def _set_failure_policy(self, on_failure: str) -> None:
         self._sim.failure_policy = on_failure
@@ -62,6 +89,8 @@ class DrivenBody:
         self._set_failure_policy(value)
 
     def _step(self, n: int) -> None:
+        if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)):
+            raise TypeError(f"step count n must be an integer, got {type(n).__name__} {n!r}")
         self._sim.step(int(n))
         stats = self._sim.stats
         for key, text in _FAILURES:
@@ -156,3 +185,11 @@ class DrivenBody:
     def reset_stats(self) -> None:
         """Start the statistics afresh."""
         self._sim.reset_stats()
+
+    def reset(self) -> None:
+        """Back to the rest state: positions = rest, velocities and external forces zero,
+        time 0, statistics reset, warm starts and stability estimates cleared (a stepped
+        run then repeats a fresh simulation's). Kept: fixed nodes, gravity, the settings (dt,
+        integrator, solver) and on_failure. Loud-failure warnings may be issued again."""
+        self._sim.reset()
+        self._warned = set()

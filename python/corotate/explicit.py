@@ -58,6 +58,9 @@ class ExplicitSimulation(DrivenBody):
     positions, velocities and external_forces are (n, 3) float64 views of the state held in
     C++ (no copies); write into them between steps. Pinned nodes keep their velocity.
     A step producing non-finite values raises RuntimeError and restores the state.
+
+    Settable later: dt, integrator, on_unstable, policy, gravity, on_failure; body and time
+    are read-only (reset() goes back to the rest state at t = 0).
     """
 
     def __init__(
@@ -74,7 +77,7 @@ class ExplicitSimulation(DrivenBody):
     ) -> None:
         if not isinstance(body, (MassSpringBody, Body)):
             raise TypeError("body must be a corotate.MassSpringBody or a corotate.Body")
-        self.body = body
+        self._body = body
         self._settings: dict[str, Any] = dict(
             time_step=self._check_dt(dt),
             integrator=integrator,

@@ -41,6 +41,9 @@ class Simulation(DrivenBody):
     positions, velocities and external_forces are (n, 3) float64 NumPy views of the state
     held in C++: no copies. Write into them between steps to move fixed nodes or apply
     loads (e.g. ``sim.external_forces[tip] = (0, 0, -10)``).
+
+    Settable later: dt, solver, gravity, on_failure; body and time are read-only (reset()
+    goes back to the rest state at t = 0).
     """
 
     def __init__(
@@ -62,11 +65,10 @@ class Simulation(DrivenBody):
         check_choice(integrator, IMPLICIT_INTEGRATORS, "integrator")
         if solver is None:
             solver = Direct() if integrator == "newton" else PCG()
-        if not isinstance(solver, (PCG, Direct)):
-            raise TypeError("solver must be corotate.PCG(...) or corotate.Direct()")
+        _check_solver(solver)
         alpha, beta = (float(v) for v in rayleigh)
-        self.body = body
-        self.solver = solver
+        self._body = body
+        self._solver = solver
         settings = _core.IntegratorSettings(
             integrator=integrator,
             time_step=float(dt),
@@ -84,8 +86,36 @@ class Simulation(DrivenBody):
 
     @property
     def dt(self) -> float:
-        """Time step [s]."""
+        """Time step [s] (settable; the integrator is rebuilt, its warm start dropped)."""
         return self._sim.settings.time_step
+
+    @dt.setter
+    def dt(self, value: float) -> None:
+        s = self._sim.settings
+        self._sim.settings = _core.IntegratorSettings(
+            integrator=s.integrator,
+            time_step=float(value),  # validated in C++
+            mass_damping=s.mass_damping,
+            stiffness_damping=s.stiffness_damping,
+            lumped_mass=s.lumped_mass,
+            newton_iterations=s.newton_iterations,
+            newton_tolerance=s.newton_tolerance,
+            policy=s.policy,
+            on_unstable=s.on_unstable,
+            safety=s.safety,
+        )
+
+    @property
+    def solver(self) -> PCG | Direct:
+        """The linear solver, PCG(...) or Direct() (settable: the new one builds its
+        preconditioner or factorization afresh; the last step's answer stays the warm start)."""
+        return self._solver
+
+    @solver.setter
+    def solver(self, solver: PCG | Direct) -> None:
+        _check_solver(solver)
+        self._sim.set_solver(*solver._args())
+        self._solver = solver
 
     # --- stepping ---------------------------------------------------------------------
     def step(self, n: int = 1) -> None:
@@ -130,3 +160,8 @@ class Simulation(DrivenBody):
         steps since reset_stats(): steps, iterations_per_step, ms_per_step,
         simulated_time, wall_time [s] and real_time_ratio (simulated / wall time)."""
         return self._sim.stats
+
+
+def _check_solver(solver: object) -> None:
+    if not isinstance(solver, (PCG, Direct)):
+        raise TypeError(f"solver must be corotate.PCG(...) or corotate.Direct(), got {type(solver).__name__}")

@@ -1,0 +1,301 @@
+"""Settings take effect or refuse; reset(); step(n) takes integers only; ill-conditioned
+materials are rejected; one call at a time per simulation (busy error from other threads);
+Ctrl-C interrupts a long step(n) and restores the state."""
+
+from __future__ import annotations
+
+import math
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import corotate as cr
+
+
+def _body(cells=(6, 2, 2), **material):
+    return cr.Body(
+        cr.beam(3.0, 0.5, 0.5, cells=cells), cr.Material(**{"E": 1e6, "nu": 0.3, "density": 1000.0, **material})
+    )
+
+
+def _clamped(body, **kw):
+    kw.setdefault("on_failure", "ignore")  # the capped solves below are deliberately poor
+    sim = cr.Simulation(body, gravity=(0.0, 0.0, -9.81), **kw)
+    sim.fix(body.mesh.points[:, 0] < 1e-9)
+    return sim
+
+
+# --- settings take effect or refuse ------------------------------------------------------
+def test_assigning_a_solver_takes_effect():
+    body = _body()
+    switched = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"))
+    switched.step(2)
+    switched.solver = cr.Direct()
+    assert switched.solver == cr.Direct()
+    reference = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"))
+    reference.step(2)
+    direct = _clamped(body, solver=cr.Direct())
+    direct._sim.positions[:] = reference.positions  # same start, then direct solves
+    direct._sim.velocities[:] = reference.velocities
+    switched.step(3)
+    direct.step(3)
+    np.testing.assert_allclose(switched.positions, direct.positions, rtol=0, atol=1e-12)
+    capped = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"))
+    capped._sim.positions[:] = reference.positions
+    capped._sim.velocities[:] = reference.velocities
+    capped.step(3)
+    assert np.abs(capped.positions - direct.positions).max() > 1e-8  # the switch mattered
+    with pytest.raises(TypeError, match="solver must be"):
+        switched.solver = "direct"  # type: ignore[assignment]
+    assert switched.solver == cr.Direct()
+
+
+def test_assigning_dt_takes_effect_and_is_validated():
+    body = _body()
+    sim = _clamped(body, dt=0.01)
+    sim.dt = 0.005
+    assert sim.dt == 0.005
+    sim.step(4)
+    assert sim.time == pytest.approx(0.02)
+    fresh = _clamped(body, dt=0.005)
+    fresh.step(4)
+    np.testing.assert_allclose(sim.positions, fresh.positions, rtol=0, atol=1e-12)
+    for bad in (0.0, -1.0, math.nan, math.inf):
+        with pytest.raises(ValueError):
+            sim.dt = bad
+    assert sim.dt == 0.005
+
+
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [
+        ("time", "read-only: it advances with step"),
+        ("body", "read-only"),
+        ("positions", r"sim.positions\[:\]"),
+        ("stats", "read-only"),
+        ("fixed_nodes", "fix"),
+        ("sovler", "no attribute 'sovler'"),
+    ],
+)
+def test_read_only_and_unknown_simulation_attributes_refuse(name, message):
+    body = _body()
+    for sim in (cr.Simulation(body), cr.ExplicitSimulation(body)):
+        with pytest.raises(AttributeError, match=message):
+            setattr(sim, name, 1.0)
+
+
+def test_a_body_is_immutable():
+    body = _body()
+    for name, value in (("material", cr.Material(E=2e6)), ("mesh", body.mesh), ("model", "linear"), ("thickness", 1.0)):
+        with pytest.raises(AttributeError, match="immutable"):
+            setattr(body, name, value)
+    with pytest.raises(AttributeError, match="no attribute"):
+        body.materal = cr.Material()  # type: ignore[attr-defined]
+    assert body.material == cr.Material() and body.model == "corotational"
+
+
+def test_explicit_simulation_settings_still_settable():
+    sim = cr.ExplicitSimulation(_body(), dt=1e-4)
+    sim.dt = 2e-4
+    sim.policy = "online"
+    sim.on_failure = "raise"
+    sim.gravity = (0.0, 0.0, -1.0)
+    assert (sim.dt, sim.policy, sim.on_failure) == (2e-4, "online", "raise")
+    np.testing.assert_array_equal(sim.gravity, (0.0, 0.0, -1.0))
+
+
+# --- reset ----------------------------------------------------------------------------------
+@pytest.mark.parametrize("kind", ["implicit", "newton", "explicit"])
+def test_reset_goes_back_to_the_rest_state_and_repeats_a_fresh_run(kind):
+    body = _body()
+
+    def make():
+        if kind == "explicit":
+            sim = cr.ExplicitSimulation(body, dt=2e-4, gravity=(0.0, 0.0, -9.81))
+        else:
+            sim = cr.Simulation(
+                body, gravity=(0.0, 0.0, -9.81), integrator="linearized" if kind == "implicit" else "newton"
+            )
+        sim.fix(body.mesh.points[:, 0] < 1e-9)
+        return sim
+
+    sim = make()
+    sim.external_forces[-1] = (0.0, 0.0, -5.0)
+    sim.step(6)
+    assert sim.time > 0 and np.abs(sim.velocities).max() > 0
+    fixed = sim.fixed_nodes.copy()
+    sim.reset()
+    np.testing.assert_array_equal(sim.positions, body.mesh.points)
+    assert not sim.velocities.any() and not sim.external_forces.any() and not sim.accelerations.any()
+    assert sim.time == 0.0 and sim.stats["steps"] == 0
+    np.testing.assert_array_equal(sim.fixed_nodes, fixed)
+    np.testing.assert_array_equal(sim.gravity, (0.0, 0.0, -9.81))
+    sim.step(5)
+    fresh = make()
+    fresh.step(5)
+    np.testing.assert_array_equal(sim.positions, fresh.positions)  # warm starts cleared too
+    np.testing.assert_array_equal(sim.velocities, fresh.velocities)
+
+
+# --- step(n) takes integers ----------------------------------------------------------------
+@pytest.mark.parametrize("n", [2.7, 2.0, True, "3", np.float64(2.0), np.True_, None])
+def test_step_count_must_be_an_integer(n):
+    sim = cr.Simulation(_body(cells=(2, 1, 1)))
+    with pytest.raises(TypeError, match="integer"):
+        sim.step(n)
+    assert sim.time == 0.0 and sim.stats["steps"] == 0
+
+
+def test_numpy_integers_are_step_counts():
+    sim = cr.ExplicitSimulation(_body(cells=(2, 1, 1)), dt=1e-4)
+    sim.step(np.int64(2))
+    sim.step(np.int32(1))
+    assert sim.stats["steps"] == 3
+
+
+# --- material validation ---------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("params", "message"),
+    [
+        ({"nu": math.nextafter(0.5, 0.0)}, "too close to 0.5: lambda/mu"),
+        ({"nu": 0.49999999}, "lambda/mu"),
+        ({"nu": math.nextafter(-1.0, 0.0)}, "too close to -1"),
+        ({"E": 1e308}, "too large"),
+        ({"E": 1e160}, "too large"),
+        ({"E": math.inf}, "Young's modulus"),
+        ({"nu": math.nan}, "Poisson ratio"),
+        ({"density": math.nan}, "density"),
+    ],
+)
+def test_ill_conditioned_or_overflowing_materials_are_rejected(params, message):
+    with pytest.raises(ValueError, match=message):
+        cr.Material(**params)
+
+
+def test_nearly_incompressible_within_the_threshold_is_accepted():
+    lam, mu = cr.Material(nu=0.499999).lame
+    assert 4e5 < lam / mu < 1e6
+
+
+# --- threads ---------------------------------------------------------------------------------
+def _big_sim():
+    body = cr.Body(cr.beam(4.0, 1.0, 1.0, cells=(40, 10, 5)), cr.Material(E=1e6, nu=0.3, density=1000.0))
+    assert body.mesh.n_cells >= 10_000  # 12,000 tets
+    sim = cr.Simulation(body, dt=0.01, gravity=(0.0, 0.0, -9.81))
+    sim.fix(body.mesh.points[:, 0] < 1e-9)
+    return sim
+
+
+def test_calls_from_another_thread_during_a_step_raise_busy_or_succeed():
+    sim = _big_sim()
+    left = np.flatnonzero(sim.body.mesh.points[:, 0] < 1e-9)
+    outcomes = {"ok": 0, "busy": 0}
+    errors: list[BaseException] = []
+    stop = threading.Event()
+
+    def stepper():
+        try:
+            for _ in range(8):
+                sim.step(3)
+        except BaseException as e:
+            errors.append(e)
+        finally:
+            stop.set()
+
+    def hammer():
+        k = 0
+        while not stop.is_set():
+            k += 1
+            try:
+                if k % 2:
+                    sim.fix(left)
+                else:
+                    sim.gravity = (0.0, 0.0, -9.81 - 1e-3 * (k % 7))
+                outcomes["ok"] += 1
+            except RuntimeError as e:
+                assert "the simulation is busy" in str(e) and "another thread while a step runs" in str(e)
+                outcomes["busy"] += 1
+
+    threads = [threading.Thread(target=stepper), threading.Thread(target=hammer)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=120)
+    assert not errors, errors
+    assert outcomes["busy"] > 0  # the guard was hit: the calls did not race the steps
+    assert sim.stats["steps"] == 24
+    assert np.isfinite(sim.positions).all() and np.isfinite(sim.velocities).all()
+    np.testing.assert_array_equal(sim.fixed_nodes, left)
+    assert sim.positions[:, 2].min() < 0.0  # it sagged
+
+
+def test_a_second_concurrent_step_raises_busy():
+    sim = _big_sim()
+    started = threading.Event()
+    result: list[BaseException | None] = []
+
+    def long_step():
+        started.set()
+        try:
+            sim.step(15)
+            result.append(None)
+        except BaseException as e:
+            result.append(e)
+
+    t = threading.Thread(target=long_step)
+    t.start()
+    started.wait()
+    busy = 0
+    deadline = time.monotonic() + 60
+    while t.is_alive() and time.monotonic() < deadline and busy == 0:
+        try:
+            sim.step(1)
+        except RuntimeError as e:
+            assert "the simulation is busy: step called from another thread" in str(e)
+            busy += 1
+    t.join()
+    assert result == [None] and busy == 1
+
+
+# --- Ctrl-C ----------------------------------------------------------------------------------
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_ctrl_c_interrupts_a_long_step_and_restores_the_state():
+    sim = _big_sim()
+    sim.step(1)
+    before = (sim.positions.copy(), sim.velocities.copy(), sim.time, sim.stats["steps"])
+    seen_busy = threading.Event()
+
+    def interrupt_once_stepping():
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            try:
+                sim.stats  # noqa: B018 (raises while the step runs)
+            except RuntimeError:
+                seen_busy.set()
+                time.sleep(0.05)  # a few steps in
+                os.kill(os.getpid(), signal.SIGINT)
+                return
+            time.sleep(0.002)
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        sender = threading.Thread(target=interrupt_once_stepping)
+        sender.start()
+        t0 = time.monotonic()
+        with pytest.raises(KeyboardInterrupt):
+            sim.step(100_000)  # minutes if not interrupted
+            time.sleep(5)  # not reached; the interrupt must not land after the call
+        elapsed = time.monotonic() - t0
+        sender.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert seen_busy.is_set() and elapsed < 20
+    np.testing.assert_array_equal(sim.positions, before[0])
+    np.testing.assert_array_equal(sim.velocities, before[1])
+    assert (sim.time, sim.stats["steps"]) == before[2:]
+    sim.step(1)  # still usable: the call released the simulation
+    assert sim.stats["steps"] == before[3] + 1
