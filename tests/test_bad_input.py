@@ -337,6 +337,26 @@ def test_unknown_model_and_preconditioner():
         cr.Simulation(body, solver="direct")
 
 
+def test_renamed_model_corotated_names_fixed_corotated():
+    # "corotated" (Stomakhin's law) was one suffix away from "corotational" (the paper's model).
+    mesh = cr.box((1, 1, 1), (1, 1, 1), "tet4")
+    message = (
+        "model 'corotated' was renamed 'fixed_corotated' (Stomakhin's fixed co-rotated law); "
+        "'corotational' is the paper's co-rotated linear FEM"
+    )
+    assert "corotated" not in _core.model_names() and "fixed_corotated" in _core.model_names()
+    with pytest.raises(ValueError) as body_error:
+        cr.Body(mesh, MAT, model="corotated")
+    assert str(body_error.value) == message
+    with pytest.raises(ValueError) as core_error:
+        _core.ForceModel("corotated", "tetra", mesh.points, mesh.cells, MAT._core())
+    assert str(core_error.value) == message
+    with pytest.raises(ValueError) as law_error:
+        _core.constitutive_law("corotated", np.eye(3), MAT._core())
+    assert str(law_error.value) == message
+    cr.Body(mesh, MAT, model="fixed_corotated")  # the new name builds
+
+
 def test_bad_gravity_and_step_count():
     _mesh, sim = small_sim()
     with pytest.raises(ValueError, match="gravity must be a 3-vector"):

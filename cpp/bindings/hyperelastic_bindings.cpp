@@ -7,6 +7,7 @@
 
 #include "conversions.hpp"
 #include "corotate/material.hpp"
+#include "corotate/models/model_factory.hpp"
 #include "corotate/models/registry.hpp"
 
 namespace py = pybind11;
@@ -33,6 +34,7 @@ void bind_hyperelastic(py::module_& m) {
           result = evaluate_law(L{lambda, mu}, F);
         });
         if (!known) {
+          check_renamed_model(law);
           std::string choices;
           for (const auto& name : names_of(HyperelasticLaws{})) choices += (choices.empty() ? "'" : ", '") + name + "'";
           throw InvalidInput("unknown constitutive law '" + law + "' (choose " + choices + ")");

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "corotate/models/model_factory.hpp"
@@ -194,4 +195,19 @@ TEST(requests_a_model_cannot_answer_are_refused) {
   CHECK_THROWS(model->energy(wrong), InvalidInput);
   CHECK_THROWS(make_model("stvk", "wedge", mesh.points, mesh.cells, kMaterial), InvalidInput);
   CHECK_THROWS(make_model("corotational", "triangle", mesh.points, mesh.cells, kMaterial), InvalidInput);
+}
+
+TEST(a_renamed_model_name_says_the_new_name) {
+  const auto mesh = fixtures::tet_beam(1, 1, 1);
+  std::string message;
+  try {
+    make_model("corotated", "tetra", mesh.points, mesh.cells, kMaterial);
+  } catch (const InvalidInput& e) {
+    message = e.what();
+  }
+  CHECK(message.find("model 'corotated' was renamed 'fixed_corotated'") == 0);
+  const auto names = model_names();
+  CHECK(std::find(names.begin(), names.end(), "fixed_corotated") != names.end());
+  CHECK(std::find(names.begin(), names.end(), "corotated") == names.end());
+  check_renamed_model("fixed_corotated");  // a current name passes
 }

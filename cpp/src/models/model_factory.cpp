@@ -15,6 +15,19 @@ std::string joined(const std::vector<std::string>& names) {
 }
 }  // namespace
 
+void check_renamed_model(const std::string& name) {
+  struct Renamed {
+    const char *old_name, *new_name, *note;
+  };
+  // Old names of models, kept so that code written for them fails with the new name.
+  static const Renamed renamed[] = {
+      {"corotated", "fixed_corotated",
+       " (Stomakhin's fixed co-rotated law); 'corotational' is the paper's co-rotated linear FEM"},
+  };
+  for (const Renamed& r : renamed)
+    if (name == r.old_name) throw InvalidInput("model '" + name + "' was renamed '" + r.new_name + "'" + r.note);
+}
+
 std::vector<std::string> model_names() {
   std::vector<std::string> names = {"linear", "corotational"};
   for (const auto& law : names_of(HyperelasticLaws{})) names.push_back(law);
@@ -42,6 +55,7 @@ std::unique_ptr<ForceModel> make_model(const std::string& model, const std::stri
   const std::vector<std::string> models = model_names(), available = models_for_cell_type(cell_type);
   if (available.empty())
     throw InvalidInput("unsupported cell type '" + cell_type + "' (supported: " + joined(cell_type_names()) + ")");
+  check_renamed_model(model);
   if (std::find(models.begin(), models.end(), model) == models.end())
     throw InvalidInput("unknown model '" + model + "' (choose " + joined(models) + ")");
   if (std::find(available.begin(), available.end(), model) == available.end())

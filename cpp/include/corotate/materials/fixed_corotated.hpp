@@ -16,7 +16,7 @@
 namespace corotate {
 
 struct FixedCorotated {
-  static constexpr const char* name = "corotated";
+  static constexpr const char* name = "fixed_corotated";  // was "corotated" (see renamed_models)
   double lambda, mu;
 
   double energy(const Mat3& F) const {

@@ -13,9 +13,9 @@ namespace corotate {
 
 // model: "linear", "corotational" (co-rotated linear FEM, the paper's model), or a
 // hyperelastic law: "stvk" (St. Venant-Kirchhoff), "neohookean" (stable Neo-Hookean),
-// "corotated" (fixed co-rotated); cell_type: "tetra", "hexahedron", "hexahedron20" (every
-// model) or "triangle" (membrane sheets, "stvk" only) (VTK/meshio names).
-// rest: 3 x n; cells: m x k node indices. Throws InvalidInput naming what is wrong.
+// "fixed_corotated" (Stomakhin's fixed co-rotated law), "neohookean_log"; cell_type: "tetra", "hexahedron",
+// "hexahedron20" (every model) or "triangle" (membrane sheets, "stvk" only) (VTK/meshio names). rest: 3 x n; cells: m x
+// k node indices. Throws InvalidInput naming what is wrong.
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
                                        const Connectivity& cells, const Material& material,
                                        const ModelOptions& options = ModelOptions());
@@ -24,5 +24,10 @@ std::vector<std::string> model_names();      // every model name make_model acce
 std::vector<std::string> cell_type_names();  // every cell type
 // The models available for a cell type (empty for an unknown one).
 std::vector<std::string> models_for_cell_type(const std::string& cell_type);
+
+// Throws InvalidInput saying what a renamed model (or law) is called now, when name is one
+// of the old names (e.g. "corotated", now "fixed_corotated"); does nothing otherwise.
+// make_model and the constitutive_law binding call it before "unknown model".
+void check_renamed_model(const std::string& name);
 
 }  // namespace corotate
