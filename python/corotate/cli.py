@@ -11,6 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import __version__
+
 
 def _demo(args: argparse.Namespace) -> int:
     from . import PCG, Body, Material, Simulation, TimeSeriesWriter, beam, read_mesh
@@ -80,6 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="corotate", description="Fast co-rotational FEM simulation of elastic solids."
     )
+    parser.add_argument("--version", action="version", version=f"corotate {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
     demo = sub.add_parser(
@@ -125,7 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
         "lands on a pinned base; the explainer's 2D St. Venant-Kirchhoff sheet of triangles swings "
         "from two corners (symplectic Euler). Writes OUT/cloth.pvd, OUT/cube.pvd and OUT/sheet.pvd "
         "(+ .vtu frames) and a PNG of each last frame "
-        "(PNG needs matplotlib: pip install 'corotate[plot]').",
+        "(PNG needs matplotlib: pip install matplotlib, or the extra 'corotate-fem[plot]').",
     )
     scenes.add_argument(
         "scene", nargs="?", default="all", choices=["all", "cloth", "cube", "sheet"], help="which scene (default all)"

@@ -1,7 +1,7 @@
 """Scenes to look at: a cloth hanging from two corners and a soft cube landing on a pinned
 base, both mass-spring bodies stepped explicitly. Each writes a ParaView time series
 (OUT/<scene>.pvd + one .vtu per frame) and a PNG of the last frame (needs matplotlib:
-``pip install 'corotate[plot]'``; skipped with a message otherwise)."""
+``pip install matplotlib``, or the extra ``corotate-fem[plot]``; skipped with a message otherwise)."""
 
 from __future__ import annotations
 
@@ -96,7 +96,7 @@ def pyplot() -> Any:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        print("  PNG skipped: matplotlib is not installed (pip install 'corotate[plot]')")
+        print("  PNG skipped: matplotlib is not installed (pip install matplotlib)")
         return None
     return plt
 
