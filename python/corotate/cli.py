@@ -25,8 +25,15 @@ def _demo(args: argparse.Namespace) -> int:
     lo = mesh.points[:, axis].min()
     extent = np.ptp(mesh.points, axis=0).max()
     fixed = mesh.nodes_where(lambda p: p[:, axis] <= lo + args.fix_fraction * extent)
+    if args.gravity is not None:
+        gravity = np.asarray(args.gravity, dtype=float)
+    elif args.mesh:  # a mesh file: gravity along its longest extent, so a figure stands upright
+        gravity = np.zeros(3)
+        gravity[int(np.argmax(np.ptp(mesh.points, axis=0)))] = -9.81
+    else:
+        gravity = np.array([0.0, 0.0, -9.81])
     body = Body(mesh, Material(E=args.E, nu=args.nu, density=args.density), model=args.model)
-    sim = Simulation(body, dt=args.dt, solver=PCG(), gravity=(0.0, 0.0, -9.81))
+    sim = Simulation(body, dt=args.dt, solver=PCG(), gravity=gravity, rayleigh=(args.damping, 0.0))
     sim.fix(fixed)
 
     out = Path(args.out)
@@ -34,7 +41,8 @@ def _demo(args: argparse.Namespace) -> int:
     pvd = out / "demo.pvd"
     print(
         f"corotate demo: {mesh.n_cells} {mesh.cell_type} cells, {mesh.n_nodes} nodes, {len(fixed)} fixed; "
-        f"{args.model} model, dt = {args.dt} s, {args.steps_per_frame} steps per frame, {args.frames} frames"
+        f"{args.model} model, dt = {args.dt} s, {args.steps_per_frame} steps per frame, {args.frames} frames, "
+        f"gravity {tuple(float(g) for g in gravity)} m/s^2, damping {args.damping} 1/s"
     )
     with TimeSeriesWriter(pvd, mesh) as writer:
         writer.write(sim.time, sim.positions, {"velocity": sim.velocities})
@@ -106,6 +114,19 @@ def build_parser() -> argparse.ArgumentParser:
         "--element", default="tet4", choices=["tet4", "hex8", "hex20"], help="beam element (default tet4)"
     )
     demo.add_argument("--model", default="corotational", choices=["corotational", "linear"], help="force model")
+    demo.add_argument(
+        "--gravity",
+        type=float,
+        nargs=3,
+        metavar=("GX", "GY", "GZ"),
+        help="gravity in m/s^2 (default: 0 0 -9.81 for the beam; for --mesh, -9.81 along the mesh's longest axis)",
+    )
+    demo.add_argument(
+        "--damping",
+        type=float,
+        default=0.0,
+        help="mass-proportional damping alpha in 1/s (Rayleigh alpha; default 0: undamped swinging)",
+    )
     demo.add_argument("--E", type=float, default=1e6, help="Young's modulus in Pa (default 1e6: soft)")
     demo.add_argument("--nu", type=float, default=0.3, help="Poisson ratio (default 0.3)")
     demo.add_argument("--density", type=float, default=1000.0, help="density in kg/m^3 (default 1000)")
