@@ -36,8 +36,6 @@
 // tangent() returns false and the element uses R K_e R^T.
 #pragma once
 
-#include <Eigen/Cholesky>
-
 #include "corotate/elements/element_matrices.hpp"
 #include "corotate/fem/element_kernel.hpp"
 #include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
@@ -99,19 +97,14 @@ class CorotationalKernel {
   // Exact tangent, all N x N blocks (not symmetric); derivation at the top of this file.
   bool tangent(const Element& el, const Frame& fr, const NodeMatrix& x, Stiffness& K) const {
     const Mat3& R = fr.R;
-    Mat3 S = R.transpose() * (x * el.G);
-    S = 0.5 * (S + S.transpose()).eval();
-    Mat3 H = -S;
-    H.diagonal().array() += S.trace();
-    const Eigen::LDLT<Mat3> ldlt(H);
-    const double h_min = ldlt.vectorD().minCoeff(), h_max = ldlt.vectorD().maxCoeff();
-    if (!(h_min > 1e-8 * h_max)) return false;
+    Mat3 S, H_inv;
+    if (!polar_rotation_derivative(R, Mat3(x * el.G), S, H_inv)) return false;
     const NodeMatrix u = R.transpose() * x - el.X;
     const DofVector ku = el.K * Eigen::Map<const DofVector>(u.data());
     Eigen::Matrix<double, 3, 3 * N> A;   // the A_b side by side
     Eigen::Matrix<double, 3 * N, 3> RC;  // the R C_a stacked
     for (int b = 0; b < N; ++b)
-      A.template block<3, 3>(0, 3 * b) = ldlt.solve(Mat3(cross_matrix(el.G.row(b).transpose()) * R.transpose()));
+      A.template block<3, 3>(0, 3 * b) = H_inv * cross_matrix(el.G.row(b).transpose()) * R.transpose();
     for (int a = 0; a < N; ++a) {
       Mat3 C = -cross_matrix(ku.template segment<3>(3 * a));
       for (int c = 0; c < N; ++c) C.noalias() += el.K.template block<3, 3>(3 * a, 3 * c) * cross_matrix(u.col(c));

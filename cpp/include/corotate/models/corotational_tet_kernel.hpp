@@ -79,13 +79,8 @@ class CorotationalKernel<Tet4> {
   // Fills the blocks a <= b. Returns false where H is near singular (inverted elements).
   bool tangent(const Element& el, const Frame& fr, const NodeMatrix& x, Stiffness& K) const {
     const Mat3& R = fr.R;
-    Mat3 S = R.transpose() * (x * el.G);
-    S = 0.5 * (S + S.transpose()).eval();
-    Mat3 H = -S;
-    H.diagonal().array() += S.trace();
-    const double det = H.determinant(), scale = H.cwiseAbs().maxCoeff();
-    if (!(det > 1e-8 * scale * scale * scale)) return false;
-    const Mat3 H_inv = H.inverse();
+    Mat3 S, H_inv;
+    if (!polar_rotation_derivative(R, Mat3(x * el.G), S, H_inv)) return false;
     Mat3 strain = S;
     strain.diagonal().array() -= 1.0;
     const Mat3 sigma = stress(strain);

@@ -18,4 +18,21 @@ Mat3 polar_rotation_svd(const Mat3& F);
 // falls back to the SVD when the iteration does not converge.
 Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q);
 
+// What the derivative of the polar rotation needs, shared by the co-rotated tangents: for
+// F = R S with S symmetric, a change dF rotates R by dR = R [theta]x with
+//     (tr(S) I - S) theta = vee(R^T dF - dF^T R).
+// Gives S = sym(R^T F) and H^-1 = (tr(S) I - S)^-1; false (nothing set) where H is near
+// singular, i.e. the element is inverted or flat and its rotation has no derivative.
+inline bool polar_rotation_derivative(const Mat3& R, const Mat3& F, Mat3& S, Mat3& H_inv) {
+  const Mat3 RtF = R.transpose() * F;
+  const Mat3 sym = 0.5 * (RtF + RtF.transpose());
+  Mat3 H = -sym;
+  H.diagonal().array() += sym.trace();
+  const double det = H.determinant(), scale = H.cwiseAbs().maxCoeff();
+  if (!(det > 1e-8 * scale * scale * scale)) return false;
+  S = sym;
+  H_inv = H.inverse();
+  return true;
+}
+
 }  // namespace corotate
