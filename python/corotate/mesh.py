@@ -280,14 +280,20 @@ def _check_cells(cells: ArrayLike, cell_type: str, n_nodes: int) -> np.ndarray:
         c = np.zeros((0, k), dtype=np.int64)
     if c.dtype.kind not in "iu":
         raise ValueError(f"cells must hold integer node indices, got dtype {c.dtype}")
+    return _index_block(c, k, n_nodes, f"cells of type {cell_type!r}", "")
+
+
+def _index_block(c: np.ndarray, k: int, n_nodes: int, what: str, prefix: str) -> np.ndarray:
+    """c as a fresh (m, k) int64 C-order array with every index in [0, n_nodes), else ValueError:
+    what names the block in the shape message, prefix starts the message about a bad cell."""
     if c.ndim != 2 or c.shape[1] != k:
-        raise ValueError(f"cells of type {cell_type!r} must have shape (m, {k}), got {c.shape}")
+        raise ValueError(f"{what} must have shape (m, {k}), got {c.shape}")
     c = np.array(c, dtype=np.int64, order="C", copy=True)
     bad = (c < 0) | (c >= n_nodes)
     if bad.any():
         cell, local = np.argwhere(bad)[0]
         raise ValueError(
-            f"cell {cell} has node index {c[cell, local]} out of range "
+            f"{prefix}cell {cell} has node index {c[cell, local]} out of range "
             f"[0, {n_nodes}) ({int(bad.any(axis=1).sum())} bad cell(s) in total)"
         )
     return c

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .mesh import SUPPORTED_CELL_TYPES, VOLUME_CELL_TYPES, _meshio, _volume_list
+from .mesh import SUPPORTED_CELL_TYPES, VOLUME_CELL_TYPES, _index_block, _meshio, _volume_list
 
 # meshio cell types of dimension < 3. A body is made of volume cells, so these
 # (boundary faces, edges, marker points) are dropped with a warning; any other
@@ -447,17 +447,7 @@ def _block_array(data: Any, cell_type: str, n_points: int, source: str) -> np.nd
     k = SUPPORTED_CELL_TYPES.get(cell_type, arr.shape[-1] if arr.ndim == 2 else -1)
     if arr.size == 0:
         return np.zeros((0, max(k, 0)), dtype=np.int64)
-    if arr.ndim != 2 or arr.shape[1] != k:
-        raise ValueError(f"{source}: {cell_type} cells must have shape (m, {k}), got {arr.shape}")
-    arr = arr.astype(np.int64)
-    bad = (arr < 0) | (arr >= n_points)
-    if bad.any():
-        cell, local = np.argwhere(bad)[0]
-        raise ValueError(
-            f"{source}: {cell_type} cell {cell} has node index {arr[cell, local]} out of range "
-            f"[0, {n_points}) ({int(bad.any(axis=1).sum())} bad cell(s) in total)"
-        )
-    return arr
+    return _index_block(arr, k, n_points, f"{source}: {cell_type} cells", f"{source}: {cell_type} ")
 
 
 # --------------------------------------------------------------------------
