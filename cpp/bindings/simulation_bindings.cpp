@@ -169,22 +169,29 @@ void bind_simulation(py::module_& m) {
           py::arg("solver"), py::arg("pcg") = PCGSettings{})
       .def(
           "step",
-          [](Simulation& s, int n) {
-            // The GIL is released for the steps; between two of them, at most every 20 ms, the
-            // signal handlers run (Ctrl-C): a KeyboardInterrupt fails the call, and the state
-            // is restored to what it was before it, as for every failure.
+          [](Simulation& s, int n, const std::optional<py::function>& progress) {
+            // The GIL is released for the steps. After each of them, the progress callback
+            // (if any) runs with the GIL, and at most every 20 ms the signal handlers do
+            // (Ctrl-C). Whatever they raise fails the call, and the state is restored to
+            // what it was before it, as for every failure.
             using Clock = std::chrono::steady_clock;
             Clock::time_point last = Clock::now();
-            const auto check_signals = [&last] {
-              if (Clock::now() - last < std::chrono::milliseconds(20)) return;
+            const auto after_each_step = [&last, &progress, n](int done) {
+              const bool signals_due = Clock::now() - last >= std::chrono::milliseconds(20);
+              if (!signals_due && !progress) return;
               py::gil_scoped_acquire gil;
-              if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-              last = Clock::now();
+              if (progress) (*progress)(done, n);
+              if (signals_due) {
+                if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+                last = Clock::now();
+              }
             };
             py::gil_scoped_release release;
-            s.step(n, check_signals);
+            s.step(n, after_each_step);
           },
-          py::arg("n") = 1, "Take n steps; interruptible between steps (Ctrl-C restores the state of before the call).")
+          py::arg("n") = 1, py::arg("progress") = py::none(),
+          "Take n steps; progress(done, n) is called after each; interruptible between steps (Ctrl-C "
+          "restores the state of before the call).")
       .def("reset", &Simulation::reset,
            "Back to the rest state (positions = rest, velocities, external forces and time zero, stats and "
            "warm starts cleared); fixed nodes, gravity and settings are kept.")

@@ -43,8 +43,10 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettin
 
 Simulation::Claim::Claim(const Simulation& sim, const char* what) : busy_(sim.busy_) {
   if (busy_.exchange(true, std::memory_order_acquire))
-    throw SimulationBusy(std::string("the simulation is busy: ") + what +
-                         " called from another thread while a step runs (one call at a time per simulation)");
+    throw SimulationBusy(
+        std::string("the simulation is busy: ") + what +
+        " called from another thread while a step runs, or from its progress callback (one call at a time per "
+        "simulation)");
 }
 
 void Simulation::check_health(StepStats& st) {
@@ -182,7 +184,7 @@ void Simulation::record_estimates() {
   }
 }
 
-void Simulation::step(int n, const std::function<void()>& between_steps) {
+void Simulation::step(int n, const std::function<void(int done)>& after_each_step) {
   const Claim claim(*this, "step");
   if (n < 0) throw InvalidInput("step count must be non-negative");
   check_finite_state(x_, v_, f_ext_);
@@ -222,7 +224,7 @@ void Simulation::step(int n, const std::function<void()>& between_steps) {
       stats_.wall_ms += st.total_ms;
       stats_.last = std::move(st);
       record_estimates();
-      if (between_steps && s + 1 < n) between_steps();
+      if (after_each_step) after_each_step(s + 1);
     }
     if (failure_policy_ != FailurePolicy::Ignore) {
       energy_check_.x_end = x_;

@@ -353,9 +353,9 @@ class Simulation:
         ...
     def stability(self) -> dict:
         ...
-    def step(self, n: typing.SupportsInt | typing.SupportsIndex = 1) -> None:
+    def step(self, n: typing.SupportsInt | typing.SupportsIndex = 1, progress: collections.abc.Callable | None = None) -> None:
         """
-        Take n steps; interruptible between steps (Ctrl-C restores the state of before the call).
+        Take n steps; progress(done, n) is called after each; interruptible between steps (Ctrl-C restores the state of before the call).
         """
     @property
     def accelerations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:

@@ -11,6 +11,8 @@ import scipy.sparse as sp
 from ._attributes import SettableOnly
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from numpy.typing import ArrayLike
 
 
@@ -88,10 +90,12 @@ class DrivenBody(SettableOnly):
     def on_failure(self, value: str) -> None:
         self._set_failure_policy(value)
 
-    def _step(self, n: int) -> None:
+    def _step(self, n: int, progress: Callable[[int, int], object] | None) -> None:
         if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)):
             raise TypeError(f"step count n must be an integer, got {type(n).__name__} {n!r}")
-        self._sim.step(int(n))
+        if progress is not None and not callable(progress):
+            raise TypeError(f"progress must be a callable progress(done, n), got {type(progress).__name__}")
+        self._sim.step(int(n), progress)
         stats = self._sim.stats
         for key, text in _FAILURES:
             if stats[key] > 0 and key not in self._warned:

@@ -23,6 +23,8 @@ from .driven_body import DrivenBody
 from .mass_spring import MassSpringBody
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from numpy.typing import ArrayLike
 
 __all__ = ["ExplicitSimulation"]
@@ -171,13 +173,16 @@ class ExplicitSimulation(DrivenBody):
         return self._sim.estimate_stability(which == "bound")
 
     # --- stepping ----------------------------------------------------------------------
-    def step(self, n: int = 1) -> None:
+    def step(self, n: int = 1, progress: Callable[[int, int], object] | None = None) -> None:
         """Advance n steps of dt, each in as many stable substeps as needed.
+
+        progress, if given, is called as progress(done, n) after each step; it may not call
+        the simulation, and what it raises fails the call (as in Simulation.step).
 
         Raises ValueError for non-finite state or loads and, with on_unstable="raise", when
         dt exceeds the stable step; RuntimeError when a step produces non-finite values.
         In every case the state is left exactly as it was before the call."""
-        self._step(n)
+        self._step(n, progress)
 
     def advance(self, duration: float) -> None:
         """Advance by duration [s] (needs dt set): round(duration / dt) steps."""

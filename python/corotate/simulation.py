@@ -14,6 +14,8 @@ from .driven_body import DrivenBody
 from .solvers import PCG, Direct
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from numpy.typing import ArrayLike
 
 _DEFAULTS = _core.IntegratorSettings()  # the defaults live in C++ (integrators/integrator.hpp)
@@ -118,13 +120,18 @@ class Simulation(DrivenBody):
         self._solver = solver
 
     # --- stepping ---------------------------------------------------------------------
-    def step(self, n: int = 1) -> None:
+    def step(self, n: int = 1, progress: Callable[[int, int], object] | None = None) -> None:
         """Advance n time steps.
 
+        progress, if given, is called as progress(done, n) after each step (a progress bar:
+        ``bar = tqdm(total=n); sim.step(n, lambda done, n: bar.update())``). It may not call
+        the simulation (it runs inside the step: RuntimeError "busy"); what it raises fails
+        the call. Ctrl-C interrupts a long call between steps.
+
         Raises ValueError for non-finite positions, velocities or forces and RuntimeError
-        when a step fails (non-finite result, solver breakdown); in both cases the state is
+        when a step fails (non-finite result, solver breakdown); in every case the state is
         left exactly as it was before the call."""
-        self._step(n)
+        self._step(n, progress)
 
     def solve_static(
         self,

@@ -139,11 +139,14 @@ TEST(an_interruption_between_steps_restores_the_state) {
   const double t = sim->time();
   int calls = 0;
   CHECK_THROWS(sim->step(10,
-                         [&calls] {
+                         [&calls](int done) {
+                           CHECK(done == calls + 1);
                            if (++calls == 3) throw std::runtime_error("interrupted");
                          }),
                std::runtime_error);
   CHECK(calls == 3 && sim->time() == t && sim->stats().steps == 2);
   CHECK((sim->positions() - x).norm() == 0.0);
-  sim->step(1);
+  std::vector<int> reported;
+  sim->step(3, [&reported](int done) { reported.push_back(done); });
+  CHECK((reported == std::vector<int>{1, 2, 3}) && sim->stats().steps == 5);  // the last step reports too
 }

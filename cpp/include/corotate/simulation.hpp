@@ -111,10 +111,11 @@ class Simulation {
   FailurePolicy failure_policy() const { return failure_policy_; }
   const BlockSparseMatrix& mass() const { return integrator_->mass(); }
 
-  // Take n steps of settings().time_step. between_steps (optional) is called after every
-  // step but the last; whatever it throws (an interruption) fails the call like any failure:
-  // the state is restored to what it was before the call.
-  void step(int n = 1, const std::function<void()>& between_steps = {});
+  // Take n steps of settings().time_step. after_each_step (optional) is called after every
+  // step, the last included, with the number of steps done so far in this call (progress
+  // reports, interruption checks); whatever it throws fails the call like any failure: the
+  // state is restored to what it was before the call.
+  void step(int n = 1, const std::function<void(int done)>& after_each_step = {});
 
   // Back to the rest state: positions = rest, velocities, accelerations and external forces
   // zero, time 0, statistics reset, the integrator's carried state (warm starts, stability
