@@ -83,16 +83,32 @@ def test_tet4_is_conforming():
     assert 2 * interior + len(boundary) == 4 * m.n_cells
 
 
-def test_tet4_six_tets_share_main_diagonal():
+def test_tet4_six_tets_share_a_diagonal_mirrored_between_neighbours():
     m = box(SIZE, CELLS, "tet4")
     per_cube = m.cells.reshape(-1, 6, 4)
-    for cube in per_cube:
+    for ijk, cube in zip(np.ndindex(*CELLS), per_cube):
         p = m.points[cube.ravel()]
         lo, hi = p.min(axis=0), p.max(axis=0)
-        i_lo = np.flatnonzero(np.all(np.isclose(m.points, lo), axis=1))
-        i_hi = np.flatnonzero(np.all(np.isclose(m.points, hi), axis=1))
-        assert len(i_lo) == len(i_hi) == 1
-        assert all(i_lo[0] in t and i_hi[0] in t for t in cube)
+        # the diagonal's ends: the corners whose coordinate flips with the cube's parity
+        odd = np.array(ijk) % 2 == 1
+        start, end = np.where(odd, hi, lo), np.where(odd, lo, hi)
+        i_start = np.flatnonzero(np.all(np.isclose(m.points, start), axis=1))
+        i_end = np.flatnonzero(np.all(np.isclose(m.points, end), axis=1))
+        assert len(i_start) == len(i_end) == 1
+        assert all(i_start[0] in t and i_end[0] in t for t in cube)
+
+
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_tet4_box_with_even_cell_counts_is_mirror_symmetric(axis):
+    # Mirroring about the mid-plane maps the set of tets onto itself, so a symmetric load
+    # gives a symmetric answer (one diagonal direction everywhere would twist a beam).
+    m = box((2.0, 1.0, 1.0), (4, 2, 2), "tet4")
+    mirrored = m.points.copy()
+    mirrored[:, axis] = m.points[:, axis].max() - m.points[:, axis]
+    key = {tuple(np.round(p, 9)): i for i, p in enumerate(m.points)}
+    image = np.array([key[tuple(np.round(p, 9))] for p in mirrored])
+    tets = {tuple(sorted(t)) for t in m.cells.tolist()}
+    assert {tuple(sorted(t)) for t in image[m.cells].tolist()} == tets
 
 
 @pytest.mark.parametrize("element", ["hex8", "hex20"])

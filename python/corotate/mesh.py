@@ -492,9 +492,13 @@ def box(
 
     size     (3,) edge lengths (lx, ly, lz), all > 0
     cells    (3,) number of cuboids (nx, ny, nz) along each axis, all >= 1
-    element  "tet4": each cuboid cut into 6 tets sharing its diagonal from the
-                     (min, min, min) to the (max, max, max) corner (Kuhn /
-                     Freudenthal split, conforming across cuboids);
+    element  "tet4": each cuboid cut into 6 tets sharing one of its diagonals
+                     (Kuhn / Freudenthal split), mirrored from cuboid to cuboid
+                     along each axis so the mesh is conforming and symmetric about
+                     every plane between cuboid pairs: a beam with an even number
+                     of cells across bends in its plane of load (one diagonal
+                     direction everywhere would twist it sideways, by 10% of the
+                     deflection on a 4 x 4 cross-section);
              "hex8": one "hexahedron" per cuboid;
              "hex20": one "hexahedron20" per cuboid, edge mid-nodes shared
                      with the neighbouring cells.
@@ -525,8 +529,14 @@ def box(
     points = np.column_stack([axes[d][ijk[:, d]] for d in range(3)])
 
     local = _local_offsets(element)  # (cells per cuboid, k, 3) in half-steps if sub=2
-    base = sub * np.indices(tuple(counts)).reshape(3, -1).T  # (N, 3) cuboid corners
-    idx = base[:, None, None, :] + local[None, :, :, :]  # (N, c, k, 3)
+    cuboid = np.indices(tuple(counts)).reshape(3, -1).T  # (N, 3) cuboid indices
+    base = sub * cuboid  # (N, 3) cuboid corners
+    if element == "tet4":  # the split mirrored in every odd cuboid along each axis
+        parity = cuboid % 2
+        mirrored = _mirrored_kuhn_tets()  # (2, 2, 2, 6, 4, 3)
+        idx = base[:, None, None, :] + mirrored[parity[:, 0], parity[:, 1], parity[:, 2]]
+    else:
+        idx = base[:, None, None, :] + local[None, :, :, :]  # (N, c, k, 3)
     conn = node_id[idx[..., 0], idx[..., 1], idx[..., 2]]
     return Mesh(points, conn.reshape(-1, local.shape[1]), _ELEMENTS[element])
 
@@ -590,6 +600,23 @@ def _kuhn_tets() -> np.ndarray:
             verts = verts[[0, 2, 1, 3]]
         tets.append(verts)
     return np.array(tets)
+
+
+def _mirrored_kuhn_tets() -> np.ndarray:
+    """The Kuhn tets mirrored along any subset of the axes, positively oriented.
+
+    returns  (2, 2, 2, 6, 4, 3) int64: [mx, my, mz] holds the split of the unit
+             cube mirrored along the axes whose flag is 1 (offset o -> 1 - o).
+    """
+    kuhn = _kuhn_tets()
+    out = np.empty((2, 2, 2, *kuhn.shape), dtype=np.int64)
+    for flags in itertools.product((0, 1), repeat=3):
+        f = np.array(flags)
+        tets = np.where(f == 1, 1 - kuhn, kuhn)
+        if f.sum() % 2 == 1:  # an odd number of mirrors reverses the orientation
+            tets = tets[:, [0, 2, 1, 3]]
+        out[flags] = tets
+    return out
 
 
 def rectangle(size: ArrayLike = (1.0, 1.0), cells: ArrayLike = (1, 1), origin: ArrayLike = (0.0, 0.0)) -> Mesh:
