@@ -29,7 +29,7 @@ def test_demo_gravity_and_damping_take_effect(tmp_path, capsys):
     the fall is slower over the same time."""
     from corotate.cli import main
 
-    base = ["demo", "--frames", "3", "--steps-per-frame", "5", "--cells", "1", "--out", str(tmp_path)]
+    base = ["demo", "--frames", "3", "--steps-per-frame", "5", "--cells", "1", "--out", str(tmp_path), "--no-picture"]
 
     def far_end(extra):
         assert main([*base, *extra]) == 0
@@ -40,9 +40,21 @@ def test_demo_gravity_and_damping_take_effect(tmp_path, capsys):
     assert z == 0.0 and "gravity (0.0, 0.0, 0.0)" in out
     z_sideways, out = far_end(["--gravity", "0", "9.81", "0"])
     assert "gravity (0.0, 9.81, 0.0)" in out
-    z_undamped, _ = far_end([])
+    z_undamped, _ = far_end(["--damping", "0"])
     # sideways gravity moves the end sideways; along z only by mesh asymmetry
     assert abs(z_sideways) < 0.05 * abs(z_undamped)
     z_damped, out = far_end(["--damping", "50"])
     assert "damping 50.0 1/s" in out
     assert z_undamped < 0 and z_undamped < z_damped < 0  # heavily damped: falls more slowly
+
+
+def test_demo_writes_a_picture_unless_told_not_to(tmp_path, capsys):
+    pytest.importorskip("matplotlib", reason="the picture needs the plot extra (matplotlib)")
+    from corotate.cli import main
+
+    base = ["demo", "--frames", "2", "--steps-per-frame", "1", "--cells", "1"]
+    assert main([*base, "--out", str(tmp_path / "a")]) == 0
+    assert (tmp_path / "a" / "demo.png").stat().st_size > 10_000
+    assert "demo.png (the surface at 3 instants)" in capsys.readouterr().out
+    assert main([*base, "--out", str(tmp_path / "b"), "--no-picture"]) == 0
+    assert not (tmp_path / "b" / "demo.png").exists()

@@ -81,6 +81,12 @@ _HEX_CORNERS = np.array(
 )
 
 # The hexahedron20 edges (pairs of corners) in VTK mid-node order 8..19.
+# Faces of each cell with their nodes counter-clockwise seen from outside (VTK orderings).
+_TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]], dtype=np.int64)
+_HEX_FACES = np.array(
+    [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]], dtype=np.int64
+)
+
 _HEX20_EDGES = np.array(
     [
         [0, 1],
@@ -229,6 +235,21 @@ class Mesh:
         if self.cell_type == "tetra":
             return _tet_volumes(x)
         return _hex_volumes(x[:, :8, :])
+
+    def boundary_faces(self) -> np.ndarray:
+        """The faces on the body's surface, oriented outward.
+
+        returns  (f, 3) int64 node triangles for tetra; (f, 4) corner quads for
+                 hexahedron and hexahedron20 (the mid-edge nodes are left out).
+                 A face is on the surface when no other cell shares it.
+        """
+        if self.cell_type == "triangle":
+            raise ValueError("boundary_faces is for volume meshes; a triangle sheet is its own surface")
+        local = _TET_FACES if self.cell_type == "tetra" else _HEX_FACES
+        faces = self.cells[:, :8][:, local].reshape(-1, local.shape[1])  # outward per cell
+        key = np.sort(faces, axis=1)
+        _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+        return faces[np.sort(first[counts == 1])]
 
     # -- conversion -------------------------------------------------------
 
