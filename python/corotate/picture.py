@@ -61,7 +61,7 @@ def render_snapshots(
 
     fig = plt.figure(figsize=(8.0, 5.0), dpi=110)
     ax = fig.add_subplot(projection="3d")
-    for k, (t, x) in enumerate(states):
+    for k, (_, x) in enumerate(states):
         polys = x[faces]  # (f, corners, 3)
         normal = np.cross(polys[:, 1] - polys[:, 0], polys[:, -1] - polys[:, 0])
         normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
