@@ -100,6 +100,105 @@ def test_a_huge_load_that_inverts_elements_is_reported():
             assert after[2:] == before[2:]
 
 
+def record_until_failure(sim, frames, steps=1):
+    """Step frame by frame; returns (SimulationWarning messages with their frame, the error or None)."""
+    seen = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", cr.SimulationWarning)
+        for frame in range(frames):
+            try:
+                sim.step(steps)
+            except RuntimeError as e:
+                return seen, (frame, e)
+            seen += [(frame, str(w.message)) for w in caught if issubclass(w.category, cr.SimulationWarning)]
+            caught.clear()
+    return seen, None
+
+
+def test_a_drag_spring_applied_as_an_external_force_is_caught():
+    # The wrong way to drag a node: f = k (target - x) written into external_forces each
+    # frame is an explicit spring inside an implicit step, unstable once dt^2 k / m >> 1
+    # (here about 1e5): the node flew to 1e21 m without a word. It inverts elements in the
+    # first step, which the checks report; under "raise" the step is refused.
+    mesh = cr.beam(1.0, 0.2, 0.2, cells=(10, 2, 2))
+    body = cr.Body(mesh, cr.Material(E=1e5, nu=0.3, density=1000.0))
+    grab = mesh.nearest_node((1.0, 0.1, 0.1))
+    target = mesh.points[grab] + (0.0, 0.0, 0.3)
+    for policy in ("warn", "raise"):
+        sim = cr.Simulation(body, dt=0.01, on_failure=policy)
+        sim.fix(mesh.nodes_on_plane("x", 0.0))
+
+        def drag(sim=sim):
+            sim.external_forces[grab] = 1e6 * (target - sim.positions[grab])
+
+        drag()
+        sim.step(1)  # the first step starts from rest: it creates the inverted state
+        before = snapshot(sim)
+        drag()
+        if policy == "warn":
+            with pytest.warns(cr.SimulationWarning, match="inverted or flat elements"):
+                sim.step(1)
+        else:
+            with pytest.raises(RuntimeError, match="elements were inverted or flat"):
+                sim.step(1)
+            after = snapshot(sim)
+            np.testing.assert_array_equal(after[0], before[0])
+            assert after[2:] == before[2:]
+
+
+def stvk_cloth(dt, project_psd=False, on_failure="warn"):
+    sheet = cr.rectangle((1.0, 1.0), (16, 16))  # horizontal, pinned at two corners
+    body = cr.Body(sheet, cr.Material(E=5e5, nu=0.3, density=200.0), "stvk", thickness=1e-3, project_psd=project_psd)
+    sim = cr.Simulation(body, dt=dt, gravity=(0, 0, -9.81), on_failure=on_failure)
+    sim.fix([sheet.nearest_node((0, 1, 0)), sheet.nearest_node((1, 1, 0))])
+    return sim
+
+
+def test_a_stvk_cloth_with_an_oversized_linearised_step_is_caught():
+    # A linearised step of 1/60 s is too large for a crumpling StVK sheet. With its exact,
+    # indefinite tangent the energy grows from frame 22 and PCG meets the indefinite matrix at
+    # frame 23: an error that says so and what to do, the state restored. With PSD-projected
+    # element stiffnesses the solve stalls instead and the sheet fell to -1e7 m: the energy
+    # growth is reported while the sheet is still within a metre of its start.
+    sim = stvk_cloth(1 / 60)
+    seen, failure = record_until_failure(sim, 60)
+    assert seen and "energy grew by more than 1 %" in seen[0][1]
+    assert failure is not None and failure[0] >= seen[0][0]
+    assert "indefinite stiffness" in str(failure[1]) and "project_psd=True" in str(failure[1])
+    assert sim.stats["steps"] == failure[0]  # the failed call took no step
+
+    projected = stvk_cloth(1 / 60, project_psd=True)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", cr.SimulationWarning)
+        while not projected.stats["energy_growth_steps"] and projected.stats["steps"] < 60:
+            projected.step(1)
+    assert any("energy grew by more than 1 %" in str(w.message) for w in caught)
+    assert projected.positions[:, 2].min() > -2.0
+
+    # the cure the message names: a quarter of the step, projected: one silent second
+    healthy = stvk_cloth(1 / 240, project_psd=True)
+    healthy.step(240)  # a SimulationWarning would fail the test
+    assert -1.6 < healthy.positions[:, 2].min() < -0.1  # it hangs and swings, within its size
+
+
+def test_a_huge_time_step_is_caught():
+    # dt = 1000 s for a beam whose first period is about 3 s: the linearised step does not settle
+    # at equilibrium but jumps about it with growing energy; reported from the second step.
+    mesh = cr.beam(1.0, 0.2, 0.2, cells=(10, 2, 2))
+    body = cr.Body(mesh, cr.Material(E=1e5, nu=0.3, density=1000.0))
+    for policy in ("warn", "raise"):
+        sim = cr.Simulation(body, dt=1e3, gravity=(0, 0, -9.81), on_failure=policy)
+        sim.fix(mesh.nodes_on_plane("x", 0.0))
+        seen, failure = record_until_failure(sim, 5)
+        if policy == "warn":
+            assert failure is None and seen[0][0] <= 2
+            assert "energy grew by more than 1 %" in seen[0][1] and "time step too large" in seen[0][1]
+        else:
+            assert failure is not None and failure[0] <= 2 and not seen
+            assert "while nothing drove the body" in str(failure[1])
+            assert sim.stats["steps"] == failure[0]
+
+
 def test_failure_policy_is_settable_and_checked():
     _, sim = beam_sim(cr.PCG(), cells=(2, 1, 1))
     assert sim.on_failure == "warn"

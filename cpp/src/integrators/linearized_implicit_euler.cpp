@@ -1,5 +1,6 @@
 // The linearised implicit Euler step (see implicit_integrator.hpp): one linear solve.
 #include <chrono>
+#include <string>
 
 #include "corotate/integrators/implicit_integrator.hpp"
 
@@ -53,7 +54,17 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
 
     // dv_ still holds the previous step's answer: the warm start.
     const auto t_solve = clock::now();
-    stats.solve = in.solver.solve(system_, rhs_, dv_);
+    try {
+      stats.solve = in.solver.solve(system_, rhs_, dv_);
+    } catch (const NotPositiveDefinite& e) {
+      // A linearised step needs M + dt^2 K positive definite; a hyperelastic tangent under
+      // compression (StVK sheets crumpling, inverted elements) is not, and the step that
+      // meets it is too large for the linearisation anyway.
+      throw NotPositiveDefinite(std::string(e.what()) +
+                                ": the linearised step met an indefinite stiffness (compressed StVK, membranes or "
+                                "inverted elements): the step is too large for its linearisation; use a smaller dt "
+                                "with Body(..., project_psd=True), which keeps the system positive definite");
+    }
     in.fixed.project(dv_);
     stats.solve_ms = ms_since(t_solve);
 
