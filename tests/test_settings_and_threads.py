@@ -305,6 +305,25 @@ def test_an_error_in_the_progress_callback_fails_the_call_and_restores_the_state
     assert (sim.time, sim.stats["steps"]) == (before[2], 2)
 
 
+def test_solve_static_reports_each_load_step_and_an_error_in_it_restores_the_state():
+    sim = _small_sims()[0]
+    calls: list[tuple[int, int]] = []
+    sim.solve_static(load_steps=3, progress=lambda done, n: calls.append((done, n)))
+    assert calls == [(1, 3), (2, 3), (3, 3)]
+    settled = sim.positions.copy()
+    sim.gravity = (0.0, 0.0, -2 * 9.81)
+
+    def stop_at_two(done, n):
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sim.solve_static(load_steps=3, progress=stop_at_two)
+    np.testing.assert_array_equal(sim.positions, settled)
+    with pytest.raises(TypeError, match="progress must be a callable"):
+        sim.solve_static(progress="yes")  # type: ignore[arg-type]
+
+
 def test_the_progress_callback_cannot_reenter_the_simulation():
     sim = _small_sims()[0]
     with pytest.raises(RuntimeError, match=r"the simulation is busy: .*progress callback"):

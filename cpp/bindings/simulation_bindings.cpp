@@ -6,6 +6,8 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <functional>
+#include <optional>
 
 #include "conversions.hpp"
 #include "corotate/models/explicit_traits.hpp"
@@ -74,6 +76,32 @@ py::dict stats_dict(const SimulationStats& st) {
   d["energy_growth_steps"] = st.energy_growth_steps;
   return d;
 }
+
+// The hook a long call (step(n), solve_static) runs between its steps, with the GIL released
+// around it: the progress callback (if any) after each step, with the GIL, and at most every
+// 20 ms the signal handlers (Ctrl-C). Whatever they raise fails the call, and the state is
+// restored to what it was before it, as for every failure.
+class ProgressAndSignals {
+ public:
+  ProgressAndSignals(const std::optional<py::function>& progress, int total) : progress_(progress), total_(total) {}
+
+  void operator()(int done) {
+    const bool signals_due = Clock::now() - last_check_ >= std::chrono::milliseconds(20);
+    if (!signals_due && !progress_) return;
+    py::gil_scoped_acquire gil;
+    if (progress_) (*progress_)(done, total_);
+    if (signals_due) {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      last_check_ = Clock::now();
+    }
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  const std::optional<py::function>& progress_;
+  int total_;
+  Clock::time_point last_check_ = Clock::now();
+};
 
 }  // namespace
 
@@ -170,24 +198,9 @@ void bind_simulation(py::module_& m) {
       .def(
           "step",
           [](Simulation& s, int n, const std::optional<py::function>& progress) {
-            // The GIL is released for the steps. After each of them, the progress callback
-            // (if any) runs with the GIL, and at most every 20 ms the signal handlers do
-            // (Ctrl-C). Whatever they raise fails the call, and the state is restored to
-            // what it was before it, as for every failure.
-            using Clock = std::chrono::steady_clock;
-            Clock::time_point last = Clock::now();
-            const auto after_each_step = [&last, &progress, n](int done) {
-              const bool signals_due = Clock::now() - last >= std::chrono::milliseconds(20);
-              if (!signals_due && !progress) return;
-              py::gil_scoped_acquire gil;
-              if (progress) (*progress)(done, n);
-              if (signals_due) {
-                if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-                last = Clock::now();
-              }
-            };
+            ProgressAndSignals after_each_step(progress, n);
             py::gil_scoped_release release;
-            s.step(n, after_each_step);
+            s.step(n, std::ref(after_each_step));
           },
           py::arg("n") = 1, py::arg("progress") = py::none(),
           "Take n steps; progress(done, n) is called after each; interruptible between steps (Ctrl-C "
@@ -198,21 +211,30 @@ void bind_simulation(py::module_& m) {
       .def(
           "solve_static",
           [](Simulation& s, int load_steps, double tolerance, int max_iterations,
-             const std::optional<PointsIn>& prescribed) {
+             const std::optional<PointsIn>& prescribed, const std::optional<py::function>& progress) {
             std::optional<Nodes> target;
             if (prescribed) {
               target = nodes_from(*prescribed, "prescribed positions");
               if (target->cols() != s.num_nodes())
                 throw InvalidInput("prescribed positions must have one row per node");
             }
-            const StaticResult r = s.solve_static({load_steps, tolerance, max_iterations}, target ? &*target : nullptr);
+            ProgressAndSignals after_each_load_step(progress, load_steps);
+            StaticResult r;
+            {
+              py::gil_scoped_release release;
+              r = s.solve_static({load_steps, tolerance, max_iterations}, target ? &*target : nullptr,
+                                 std::ref(after_each_load_step));
+            }
             py::dict d;
             d["residual_history"] = r.residual_history;
             d["iterations"] = r.total_iterations;
             return d;
           },
           py::arg("load_steps") = StaticSettings{}.load_steps, py::arg("tolerance") = StaticSettings{}.tolerance,
-          py::arg("max_iterations") = StaticSettings{}.max_iterations, py::arg("prescribed") = py::none())
+          py::arg("max_iterations") = StaticSettings{}.max_iterations, py::arg("prescribed") = py::none(),
+          py::arg("progress") = py::none(),
+          "Static equilibrium by Newton with load steps; progress(done, load_steps) after each load step; "
+          "interruptible between load steps (Ctrl-C restores the state).")
       .def("internal_forces",
            [](Simulation& s) {
              const Simulation::Claim claim(s, "internal_forces");

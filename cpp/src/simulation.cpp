@@ -243,7 +243,8 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
   }
 }
 
-StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed) {
+StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed,
+                                      const std::function<void(int done)>& after_each_load_step) {
   const Claim claim(*this, "solve_static");
   check_finite_state(x_, v_, f_ext_);
   x_backup_ = x_;
@@ -251,7 +252,8 @@ StaticResult Simulation::solve_static(const StaticSettings& settings, const Node
   load_ = f_ext_ + gravity_forces_;
   DirectSolver direct;
   try {
-    StaticResult result = corotate::solve_static(*model_, x_, load_, fixed_, settings, direct, prescribed);
+    StaticResult result =
+        corotate::solve_static(*model_, x_, load_, fixed_, settings, direct, prescribed, after_each_load_step);
     v_.setZero();
     return result;
   } catch (...) {

@@ -139,6 +139,7 @@ class Simulation(DrivenBody):
         tolerance: float = 1e-8,
         max_iterations: int = 100,
         prescribed: ArrayLike | None = None,
+        progress: Callable[[int, int], object] | None = None,
     ) -> dict:
         """Move the body to static equilibrium under external forces and gravity.
 
@@ -149,12 +150,16 @@ class Simulation(DrivenBody):
         Returns {"residual_history": [[...] per load step], "iterations": total}: residual
         norms on the free DOFs relative to the load (or, under pure displacement control, to
         the first residual times load_steps). Raises RuntimeError with the residuals, and
-        restores the state, if it does not converge."""
+        restores the state, if it does not converge. progress(done, load_steps), if given,
+        is called after each load step (as in step()); Ctrl-C interrupts between load steps,
+        the state restored."""
         if prescribed is not None:
             prescribed = np.ascontiguousarray(prescribed, dtype=np.float64)
             if prescribed.shape != (self.body.n_nodes, 3):
                 raise ValueError(f"prescribed must have shape ({self.body.n_nodes}, 3), got {prescribed.shape}")
-        return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations), prescribed)
+        if progress is not None and not callable(progress):
+            raise TypeError(f"progress must be a callable progress(done, n), got {type(progress).__name__}")
+        return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations), prescribed, progress)
 
     def kinetic_energy(self) -> float:
         """1/2 v^T M v with the simulation's mass matrix kind."""

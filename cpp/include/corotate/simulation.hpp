@@ -127,7 +127,9 @@ class Simulation {
   // prescribed (3 x n, optional): end positions of the fixed nodes, reached in the load steps
   // (displacement control). Throws SolverFailure and restores the state when it does not
   // converge.
-  StaticResult solve_static(const StaticSettings& settings, const Nodes* prescribed = nullptr);
+  // after_each_load_step: as after_each_step of step(), once per load step.
+  StaticResult solve_static(const StaticSettings& settings, const Nodes* prescribed = nullptr,
+                            const std::function<void(int done)>& after_each_load_step = {});
 
   // Explicit integrators only (InvalidInput otherwise): the stability estimate the next
   // step uses, and a fresh one of the bound or of the linearised system at the positions.

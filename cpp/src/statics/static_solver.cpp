@@ -15,7 +15,8 @@ void StaticSettings::validate() const {
 }
 
 StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const FixedDofs& fixed,
-                          const StaticSettings& settings, LinearSolver& solver, const Nodes* prescribed) {
+                          const StaticSettings& settings, LinearSolver& solver, const Nodes* prescribed,
+                          const std::function<void(int done)>& after_each_load_step) {
   settings.validate();
   const Index n = model.num_nodes();
   if (prescribed && (prescribed->cols() != n || !prescribed->allFinite()))
@@ -114,6 +115,7 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
       as_dofs(x) += step * dx;
       ++result.total_iterations;
     }
+    if (after_each_load_step) after_each_load_step(s);
   }
   return result;
 }

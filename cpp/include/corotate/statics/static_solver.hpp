@@ -13,6 +13,7 @@
 // iteration falls back to the model's positive semi-definite stiffness, solved by `solver`.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "corotate/fem/fixed_dofs.hpp"
@@ -37,9 +38,12 @@ struct StaticResult {
 // x: 3 x n positions, start of the iteration on entry and equilibrium on exit; fixed DOFs
 // keep their values in x, or, with prescribed (3 x n, only fixed DOFs read), end at those.
 // load: 3 x n external nodal forces.
+// after_each_load_step (optional) is called with the number of load steps done (progress
+// reports, interruption checks); what it throws ends the solve.
 // Throws SolverFailure (with the residuals) when a load step does not converge; x is then
 // left at the last iterate, so callers that need the old state must keep a copy.
 StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const FixedDofs& fixed,
-                          const StaticSettings& settings, LinearSolver& solver, const Nodes* prescribed = nullptr);
+                          const StaticSettings& settings, LinearSolver& solver, const Nodes* prescribed = nullptr,
+                          const std::function<void(int done)>& after_each_load_step = {});
 
 }  // namespace corotate
