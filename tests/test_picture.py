@@ -61,3 +61,17 @@ def test_render_snapshots_refuses_bad_positions(tmp_path):
     with pytest.raises(ValueError, match="not all finite"):
         render_snapshots(tmp_path / "x.png", m, [(0.5, bad)])
     assert not (tmp_path / "x.png").exists()
+
+
+def test_the_up_axis_is_drawn_upward_by_a_proper_turn():
+    from corotate.picture import _display_axes, _signs
+
+    for up in ("+x", "-x", "+y", "-y", "+z", "-z"):
+        turn = np.eye(3)[_display_axes(up)] * _signs(up)[:, None]  # model -> plot coordinates
+        assert np.linalg.det(turn) == pytest.approx(1.0)  # no mirror image
+        model_up = np.zeros(3)
+        model_up["xyz".index(up[1])] = 1.0 if up[0] == "+" else -1.0
+        np.testing.assert_array_equal(turn @ model_up, [0.0, 0.0, 1.0])
+    m = cr.beam(2.0, 0.5, 0.5, cells=(2, 1, 1))
+    with pytest.raises(ValueError, match="up must be one of"):
+        render_snapshots("never.png", m, [(0.0, m.points)], up="y")

@@ -66,7 +66,11 @@ def _demo(args: argparse.Namespace) -> int:
     print(f"  wrote {pvd} ({args.frames + 1} frames; open it in ParaView, colour by 'displacement')")
     if args.picture:
         try:
-            png = render_snapshots(out / "demo.png", mesh, snapshots, title=f"corotate demo: {args.model} model")
+            up = "+z"
+            if np.any(gravity):  # draw the figure upright: against gravity's main axis
+                k = int(np.argmax(np.abs(gravity)))
+                up = ("-" if gravity[k] > 0 else "+") + "xyz"[k]
+            png = render_snapshots(out / "demo.png", mesh, snapshots, title=f"corotate demo: {args.model} model", up=up)
             print(f"  wrote {png} (the surface at {len(snapshots)} instants)")
         except ImportError:
             print("  no picture: it needs matplotlib (pip install 'corotate-fem[plot]')")

@@ -27,20 +27,37 @@ def _pyplot() -> Any:
     return importlib.import_module("matplotlib.pyplot")
 
 
+def _display_axes(up: str) -> list[int]:
+    """The model axes drawn as the plot's x, y, z: a cyclic turn (right-handed) that puts
+    the axis of `up` last."""
+    if len(up) != 2 or up[0] not in "+-" or up[1] not in "xyz":
+        raise ValueError(f"up must be one of +x, -x, +y, -y, +z, -z, got {up!r}")
+    k = "xyz".index(up[1])
+    return [(k + 1) % 3, (k + 2) % 3, k]
+
+
+def _signs(up: str) -> np.ndarray:
+    """Mirror two axes (a half turn, still right-handed) when up points down an axis."""
+    return np.array([1.0, -1.0, -1.0]) if up[0] == "-" else np.ones(3)
+
+
 def render_snapshots(
     path: str | os.PathLike[str],
     mesh: Mesh,
     snapshots: Sequence[tuple[float, np.ndarray]],
     title: str = "",
     view: tuple[float, float] = (12.0, -75.0),
+    up: str = "+z",
 ) -> str:
     """Draw the surface at each (time, (n, 3) positions) snapshot into one PNG.
 
     Earlier snapshots are drawn fainter; faces are coloured by the magnitude of the
     displacement from the rest positions (one colour scale for all snapshots) and shaded
-    by their orientation. view is matplotlib's (elevation, azimuth) in degrees.
+    by their orientation. view is matplotlib's (elevation, azimuth) in degrees; up ("+z",
+    "-y", ...) the axis drawn upward (against gravity).
     returns the path written.
     """
+    axes = _display_axes(up)
     if not snapshots:
         raise ValueError("render_snapshots needs at least one (time, positions) snapshot")
     states = []
@@ -50,12 +67,13 @@ def render_snapshots(
             raise ValueError(f"positions at t = {t} must have shape {mesh.points.shape}, got {x.shape}")
         if not np.isfinite(x).all():
             raise ValueError(f"positions at t = {t} are not all finite")
-        states.append((float(t), x))
+        states.append((float(t), x[:, axes] * _signs(up)))
     plt = _pyplot()
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+    rest = mesh.points[:, axes] * _signs(up)
     faces = mesh.boundary_faces()
-    largest = max(float(np.linalg.norm(x - mesh.points, axis=1).max()) for _, x in states) or 1.0
+    largest = max(float(np.linalg.norm(x - rest, axis=1).max()) for _, x in states) or 1.0
     colours = plt.get_cmap("viridis")
     light = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
 
@@ -66,16 +84,17 @@ def render_snapshots(
         normal = np.cross(polys[:, 1] - polys[:, 0], polys[:, -1] - polys[:, 0])
         normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
         shade = 0.45 + 0.55 * np.abs(normal @ light)
-        u = np.linalg.norm(x - mesh.points, axis=1)[faces].mean(axis=1) / largest
+        u = np.linalg.norm(x - rest, axis=1)[faces].mean(axis=1) / largest
         rgba = colours(u)
         rgba[:, :3] *= shade[:, None]
         rgba[:, 3] = 0.25 + 0.75 * (k + 1) / len(states)  # the last snapshot opaque
         ax.add_collection3d(Poly3DCollection(polys, facecolors=rgba, edgecolors="none"))
-    every = np.concatenate([mesh.points] + [x for _, x in states])
+    every = np.concatenate([rest] + [x for _, x in states])
     lo, hi = every.min(axis=0), every.max(axis=0)
     centre, half = (lo + hi) / 2, (hi - lo).max() / 2
     ax.set(xlim=(centre[0] - half, centre[0] + half), ylim=(centre[1] - half, centre[1] + half))
-    ax.set(zlim=(centre[2] - half, centre[2] + half), xlabel="x [m]", ylabel="y [m]", zlabel="z [m]")
+    labels = [("-" if sign < 0 else "") + "xyz"[a] + " [m]" for a, sign in zip(axes, _signs(up))]
+    ax.set(zlim=(centre[2] - half, centre[2] + half), xlabel=labels[0], ylabel=labels[1], zlabel=labels[2])
     ax.set_box_aspect((1, 1, 1))
     ax.view_init(*view)
     mappable = plt.cm.ScalarMappable(cmap=colours, norm=plt.Normalize(0.0, largest))
