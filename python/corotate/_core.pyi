@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -421,6 +421,56 @@ class HapticFeedback:
     @property
     def tool(self) -> list[int]:
         ...
+class ModalIntegrator:
+    def __init__(self, stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], quadratic: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], cubic: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], dt: typing.SupportsFloat | typing.SupportsIndex, mass_damping: typing.SupportsFloat | typing.SupportsIndex, stiffness_damping: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def energy(self, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
+        ...
+    def evaluate(self, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        ...
+    def internal_forces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    def reset(self) -> None:
+        ...
+    def set_load_stiffness(self, extra: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> None:
+        ...
+    def set_p(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    def set_q(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    def set_v(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    def solve_static(self, load_steps: typing.SupportsInt | typing.SupportsIndex, tolerance: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex) -> int:
+        ...
+    def step(self, n: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def p(self) -> numpy.ndarray:
+        ...
+    @property
+    def q(self) -> numpy.ndarray:
+        ...
+    @property
+    def settings(self) -> tuple[float, float, float]:
+        ...
+    @settings.setter
+    def settings(self, arg1: tuple) -> None:
+        ...
+    @property
+    def size(self) -> int:
+        ...
+    @property
+    def stiffness(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+    @time.setter
+    def time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def v(self) -> numpy.ndarray:
+        ...
 class MassSpring(ForceModel):
     def __init__(self, nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], springs: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], damping: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], rest_lengths: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], masses: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:
         """
@@ -491,6 +541,14 @@ def polar_rotation(F: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[
 def preconditioner_names() -> list[str]:
     """
     Every PCG preconditioner name.
+    """
+def project_nodal_forces(basis: numpy.ndarray, nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], forces: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], p: numpy.ndarray) -> None:
+    """
+    p = sum over nodes of basis[rows of node]^T forces[k] (only the loaded nodes' rows are read).
+    """
+def recover_displacements(basis: numpy.ndarray, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64] | None, out: numpy.ndarray) -> None:
+    """
+    out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q.
     """
 def solve_linear(A: BlockSparseMatrix, b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, solver: str = 'pcg', pcg: PCGSettings = ..., geometry: typing.Annotated[numpy.typing.ArrayLike, numpy.float64] | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict]:
     """

@@ -1,0 +1,135 @@
+// pybind11 glue for the modal (reduced) body: the polynomial modal forces, the modal
+// integrator and the per-frame basis products. Nothing but conversions and shape checks.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "conversions.hpp"
+#include "corotate/modal/modal_basis.hpp"
+#include "corotate/modal/modal_integrator.hpp"
+
+namespace py = pybind11;
+using namespace corotate;
+using namespace corotate::bindings;
+
+namespace {
+
+using MatIn = Eigen::MatrixXd;
+using DoubleArray = py::array_t<double, py::array::c_style>;
+using NodeArray = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+
+// A 1-D view of a vector owned by `owner` (writable, no copy).
+py::array vector_view(Vec& x, py::handle owner) {
+  return DoubleArray({x.size()}, {Index(sizeof(double))}, x.data(), owner);
+}
+
+void assign(Vec& dst, const Vec& src, const char* what) {
+  if (src.size() != dst.size())
+    throw InvalidInput(std::string(what) + " must have " + std::to_string(dst.size()) + " entries");
+  if (!src.allFinite()) throw InvalidInput(std::string(what) + " must be finite");
+  dst = src;
+}
+
+// The basis as a read-only map: (3n, r) C-contiguous float64, no copy.
+BasisMap basis_map(const py::array& basis) {
+  if (!py::isinstance<DoubleArray>(basis) || !(basis.flags() & py::array::c_style) || basis.ndim() != 2 ||
+      basis.shape(0) % 3 != 0 || basis.shape(0) == 0 || basis.shape(1) == 0)
+    throw InvalidInput("basis must be a C-contiguous float64 array of shape (3n, r)");
+  return BasisMap(static_cast<const double*>(basis.data()), basis.shape(0), basis.shape(1));
+}
+
+double* writable_nodes_buffer(py::array& out, Index count, const char* what) {
+  if (!py::isinstance<DoubleArray>(out) || !(out.flags() & py::array::c_style) || !out.writeable() || out.ndim() != 2 ||
+      out.shape(0) != count || out.shape(1) != 3)
+    throw InvalidInput(std::string(what) + " must be a writable C-contiguous float64 array of shape (" +
+                       std::to_string(count) + ", 3)");
+  return static_cast<double*>(out.mutable_data());
+}
+
+}  // namespace
+
+void bind_modal(py::module_& m) {
+  py::class_<ModalIntegrator>(m, "ModalIntegrator")
+      .def(py::init([](const MatIn& stiffness, const MatIn& quadratic, const MatIn& cubic, double dt, double alpha,
+                       double beta) {
+             return ModalIntegrator(ModalForces(stiffness, quadratic, cubic), ModalStepSettings{dt, alpha, beta});
+           }),
+           py::arg("stiffness"), py::arg("quadratic"), py::arg("cubic"), py::arg("dt"), py::arg("mass_damping"),
+           py::arg("stiffness_damping"))
+      .def_property_readonly("size", &ModalIntegrator::size)
+      .def_property_readonly("q", [](py::object self) { return vector_view(self.cast<ModalIntegrator&>().q, self); })
+      .def_property_readonly("v", [](py::object self) { return vector_view(self.cast<ModalIntegrator&>().v, self); })
+      .def_property_readonly("p", [](py::object self) { return vector_view(self.cast<ModalIntegrator&>().p, self); })
+      .def("set_q", [](ModalIntegrator& s, const Vec& x) { assign(s.q, x, "modal coordinates q"); })
+      .def("set_v", [](ModalIntegrator& s, const Vec& x) { assign(s.v, x, "modal velocities"); })
+      .def("set_p", [](ModalIntegrator& s, const Vec& x) { assign(s.p, x, "modal forces"); })
+      .def_readwrite("time", &ModalIntegrator::time)
+      .def_property(
+          "settings",
+          [](const ModalIntegrator& s) {
+            return py::make_tuple(s.settings().dt, s.settings().mass_damping, s.settings().stiffness_damping);
+          },
+          [](ModalIntegrator& s, const py::tuple& t) {
+            s.set_settings(ModalStepSettings{t[0].cast<double>(), t[1].cast<double>(), t[2].cast<double>()});
+          })
+      .def("set_load_stiffness", &ModalIntegrator::set_load_stiffness, py::arg("extra"))
+      .def("step", &ModalIntegrator::step, py::arg("n"), py::call_guard<py::gil_scoped_release>())
+      .def("solve_static", &ModalIntegrator::solve_static, py::arg("load_steps"), py::arg("tolerance"),
+           py::arg("max_iterations"))
+      .def("reset", &ModalIntegrator::reset)
+      .def("internal_forces", [](ModalIntegrator& s) { return Vec(s.internal_forces()); })
+      .def(
+          "evaluate",
+          [](ModalIntegrator& s, const Vec& q) {
+            Vec f;
+            Eigen::MatrixXd T;
+            s.forces().evaluate(q, f, &T);
+            return py::make_tuple(f, T);
+          },
+          py::arg("q"))
+      .def(
+          "energy", [](ModalIntegrator& s, const Vec& q) { return s.forces().energy(q); }, py::arg("q"))
+      .def_property_readonly("stiffness", [](ModalIntegrator& s) { return Eigen::MatrixXd(s.forces().stiffness()); });
+
+  m.def(
+      "recover_displacements",
+      [](const py::array& basis, const Vec& q, const std::optional<NodeArray>& nodes, py::array& out) {
+        const BasisMap B = basis_map(basis);
+        if (q.size() != B.cols()) throw InvalidInput("q must have one entry per basis vector");
+        const Index n = B.rows() / 3;
+        if (nodes) {
+          check_node_indices(nodes->data(), nodes->size(), n);
+          double* o = writable_nodes_buffer(out, nodes->size(), "out");
+          py::gil_scoped_release release;
+          recover_displacements(B, q, nodes->data(), nodes->size(), o);
+        } else {
+          double* o = writable_nodes_buffer(out, n, "out");
+          py::gil_scoped_release release;
+          recover_displacements(B, q, nullptr, n, o);
+        }
+      },
+      py::arg("basis"), py::arg("q"), py::arg("nodes"), py::arg("out"),
+      "out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q.");
+  m.def(
+      "project_nodal_forces",
+      [](const py::array& basis, const NodeArray& nodes, const PointsIn& forces, py::array& p) {
+        const BasisMap B = basis_map(basis);
+        if (forces.ndim() != 2 || forces.shape(1) != 3 || forces.shape(0) != nodes.size())
+          throw InvalidInput("forces must have shape (len(nodes), 3)");
+        check_node_indices(nodes.data(), nodes.size(), B.rows() / 3);
+        for (py::ssize_t k = 0; k < forces.size(); ++k)
+          if (!std::isfinite(forces.data()[k]))
+            throw InvalidInput("force on node " + std::to_string(nodes.data()[k / 3]) + " is not finite");
+        if (!py::isinstance<DoubleArray>(p) || p.ndim() != 1 || p.shape(0) != B.cols() || !p.writeable())
+          throw InvalidInput("p must be a writable float64 vector with one entry per basis vector");
+        if (!(p.flags() & py::array::c_style)) throw InvalidInput("p must be contiguous");
+        project_nodal_forces(B, nodes.data(), nodes.size(), forces.data(), static_cast<double*>(p.mutable_data()));
+      },
+      py::arg("basis"), py::arg("nodes"), py::arg("forces"), py::arg("p"),
+      "p = sum over nodes of basis[rows of node]^T forces[k] (only the loaded nodes' rows are read).");
+}
