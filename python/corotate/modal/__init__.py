@@ -3,7 +3,24 @@ modal coordinates, geometric stiffness per load case and per mode, reduced StVK 
 
 from __future__ import annotations
 
+from .geometric_stiffness import (
+    linear_geometric_stiffness,
+    load_geometric_stiffness,
+    mode_geometric_stiffness,
+    scaled_mode_geometric_stiffness,
+)
 from .modal_body import ModalBody
+from .reduced_stvk import modal_derivatives, reduced_stvk_tensors
 from .reduction import ModalBasis, craig_bampton
 
-__all__ = ["ModalBasis", "ModalBody", "craig_bampton"]
+__all__ = [
+    "ModalBasis",
+    "ModalBody",
+    "craig_bampton",
+    "linear_geometric_stiffness",
+    "load_geometric_stiffness",
+    "mode_geometric_stiffness",
+    "scaled_mode_geometric_stiffness",
+    "modal_derivatives",
+    "reduced_stvk_tensors",
+]
