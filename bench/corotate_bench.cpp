@@ -37,6 +37,7 @@ struct Options {
   double dt = 0.01;
   bool lumped = false;
   bool checks = true;  // the loud-failure checks (simulation.hpp); --no-checks: failure policy Ignore
+  bool trace = false;  // --trace: one line per step (tip, energy, residual, checks) after each run
   std::vector<std::string> configs = {"paper", "default"};
   PCGSettings custom;  // the 'custom' configuration, set by --preconditioner, --tolerance, --cap, --cold
 };
@@ -45,6 +46,7 @@ struct RunResult {
   double precompute_ms = 0, first_step_ms = 0, median_ms = 0, assembly_ms = 0, solve_ms = 0;
   double iterations = 0, real_time_ratio = 0, tip_z = 0;
   int max_iterations = 0;
+  long long stalled_steps = 0, energy_growth_steps = 0;  // loud failures the checks counted
 };
 
 double median(std::vector<double> v) {
@@ -100,9 +102,29 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
 
   std::vector<double> total, asm_, sol;
   double iterations = 0;
+  auto tip_z = [&] {
+    double z = 0;
+    for (Index i : tip) z += sim.positions()(2, i) - mesh.points(2, i);
+    return z / tip.size();
+  };
+  if (opt.trace)
+    std::printf(
+        "# %s: state  tip_z[m]  energy[J] (elastic + kinetic - load work)  then of the step from it: iters  "
+        "rel_residual  stalled  energy_growth\n",
+        config.name.c_str());
   for (int s = 0; s < opt.steps; ++s) {
+    // The trace's energy is that of the state the step starts from: kinetic energy (consistent
+    // mass) and load work now, elastic energy from the step's own sweep.
+    double start_kinetic_minus_work = 0;
+    if (opt.trace)
+      start_kinetic_minus_work =
+          sim.kinetic_energy() - as_dofs(sim.gravity_forces()).dot(as_dofs(sim.positions()) - as_dofs(mesh.points));
+    const double start_tip = tip_z();
     sim.step(1);
     const auto& st = sim.stats().last;
+    if (opt.trace)
+      std::printf("# %4d %10.5f %12.5g %4d %10.3g %d %d\n", s, start_tip, st.start_energy + start_kinetic_minus_work,
+                  st.solve.iterations, st.solve.relative_residual, int(st.solver_stalled), int(st.energy_growth));
     if (s == 0) r.first_step_ms = st.total_ms;  // includes a preconditioner factorization
     total.push_back(st.total_ms);
     asm_.push_back(st.assembly_ms);
@@ -115,8 +137,9 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
   r.solve_ms = median(sol);
   r.iterations = iterations / opt.steps;
   r.real_time_ratio = sim.stats().real_time_ratio();
-  for (Index i : tip) r.tip_z += sim.positions()(2, i) - mesh.points(2, i);
-  r.tip_z /= tip.size();
+  r.tip_z = tip_z();
+  r.stalled_steps = sim.stats().stalled_steps;
+  r.energy_growth_steps = sim.stats().energy_growth_steps;
   return r;
 }
 
@@ -145,6 +168,9 @@ void usage() {
       "  --dt SECONDS        time step (default 0.01)\n"
       "  --lumped            lumped instead of consistent mass\n"
       "  --no-checks         skip the loud-failure checks (failure policy ignore; default: warn)\n"
+      "  --trace             print one line per step of every run: tip, total energy, iterations,\n"
+      "                      relative residual, and the loud-failure flags (energy: elastic energy at\n"
+      "                      the step's start with the kinetic energy and load work at its end)\n"
       "  --preconditioner P, --tolerance T, --cap N, --cold\n"
       "                      settings of the 'custom' configuration (none, jacobi, block_jacobi,\n"
       "                      reference_factor, two_level; default block_jacobi, 1e-6, 20, warm start)\n"
@@ -188,6 +214,7 @@ int main(int argc, char** argv) {
       else if (arg == "--dt") opt.dt = std::stod(value());
       else if (arg == "--lumped") opt.lumped = true;
       else if (arg == "--no-checks") opt.checks = false;
+      else if (arg == "--trace") opt.trace = true;
       else if (arg == "--preconditioner") opt.custom.preconditioner = preconditioner_kind_from_name(value());
       else if (arg == "--tolerance") opt.custom.tolerance = std::stod(value());
       else if (arg == "--cap") opt.custom.max_iterations = std::stoi(value());
@@ -207,15 +234,16 @@ int main(int argc, char** argv) {
     std::printf(
         "scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, one thread\n",
         opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent", opt.checks ? "loud-failure checks" : "no checks");
-    std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s\n", "mesh", "tets", "config", "precmp_ms",
-                "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]");
+    std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s %s\n", "mesh", "tets", "config", "precmp_ms",
+                "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]",
+                "stalled/growth");
     for (const auto& [label, mesh] : meshes) {
       const RunResult ref = run(mesh, config_by_name("reference", opt), opt);
       auto print = [&](const std::string& name, const RunResult& r) {
-        std::printf("%-16s %7ld %-16s %9.1f %9.1f %8.3f %7.3f %7.3f %7.2f %6d %8.2f %10.5f %8.3f\n", label.c_str(),
-                    static_cast<long>(mesh.cells.rows()), name.c_str(), r.precompute_ms, r.first_step_ms, r.median_ms,
-                    r.assembly_ms, r.solve_ms, r.iterations, r.max_iterations, r.real_time_ratio, r.tip_z,
-                    100.0 * (r.tip_z - ref.tip_z) / ref.tip_z);
+        std::printf("%-16s %7ld %-16s %9.1f %9.1f %8.3f %7.3f %7.3f %7.2f %6d %8.2f %10.5f %8.3f %lld/%lld\n",
+                    label.c_str(), static_cast<long>(mesh.cells.rows()), name.c_str(), r.precompute_ms, r.first_step_ms,
+                    r.median_ms, r.assembly_ms, r.solve_ms, r.iterations, r.max_iterations, r.real_time_ratio, r.tip_z,
+                    100.0 * (r.tip_z - ref.tip_z) / ref.tip_z, r.stalled_steps, r.energy_growth_steps);
         std::fflush(stdout);
       };
       print("reference", ref);

@@ -35,7 +35,8 @@ _FAILURES = (
     ),
     (
         "energy_growth_steps",
-        "the total energy grew by more than 1 % per step in {n} step(s) while nothing drove the body: a run-away "
+        "the total energy grew by more than 1 % above the lowest it reached in {n} step(s) while nothing drove the "
+        "body: a run-away "
         "(too few PCG iterations, or a time step too large for the linearised step)",
     ),
 )

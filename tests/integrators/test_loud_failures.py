@@ -28,26 +28,26 @@ def snapshot(sim):
 
 def test_capped_warm_started_jacobi_runs_away_and_is_caught():
     # 6 warm-started Jacobi-PCG iterations per step: the tip swings plausibly, then the
-    # motion grows without bound (1e36 m after 400 steps; 7 iterations stay bounded on this
-    # mesh, 4 blow up at once). The checks see it long before the numbers become absurd:
-    # a stalled solve (relative residual >= 1 at the cap) from about step 60, the energy
-    # growing while nothing drives the body from about step 80.
+    # motion grows without bound (1e36 m after 400 steps; 4 blow up at once). The checks see
+    # it long before the numbers become absurd: the energy rising above the lowest it reached
+    # while nothing drives the body from step 11 (the tip at -0.06 m), a stalled solve
+    # (relative residual >= 1 at the cap) from step 54.
     mesh, sim = beam_sim(cr.PCG(max_iterations=6, preconditioner="jacobi", tolerance=1e-10))
     tip = mesh.nodes_on_plane("x", 5.0)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", cr.SimulationWarning)
         for _ in range(15):
             sim.step(10)
-            if sim.stats["energy_growth_steps"]:
+            if sim.stats["energy_growth_steps"] and sim.stats["stalled_steps"]:
                 break
     messages = [str(w.message) for w in caught if issubclass(w.category, cr.SimulationWarning)]
     assert any("energy grew by more than 1 %" in m for m in messages), messages
     assert any("the linear solve stalled at its iteration cap" in m for m in messages), messages
-    assert sim.stats["energy_growth_steps"] >= 1 and sim.stats["steps"] <= 150
+    assert sim.stats["steps"] <= 70
     assert np.abs(sim.displacements[tip, 2]).max() < 5.0  # caught early: still a plausible state
 
     _, raising = beam_sim(cr.PCG(max_iterations=6, preconditioner="jacobi", tolerance=1e-10), on_failure="raise")
-    with pytest.raises(RuntimeError, match=r"linear solve stalled|energy grew by .* while nothing drove the body"):
+    with pytest.raises(RuntimeError, match=r"energy grew by .* while nothing drove the body"):
         for _ in range(300):
             before = snapshot(raising)
             raising.step(1)
@@ -55,6 +55,25 @@ def test_capped_warm_started_jacobi_runs_away_and_is_caught():
     np.testing.assert_array_equal(after[0], before[0])
     np.testing.assert_array_equal(after[1], before[1])
     assert after[2:] == before[2:]
+    assert after[3] <= 15
+
+
+def test_a_slow_run_away_is_caught_within_tens_of_steps():
+    # 7 warm-started Jacobi iterations leave about half of the error in the worst mode, near
+    # the threshold of the warm-start instability (bench/README.md): the energy creeps up
+    # and the tip reaches 134 m only after 400 steps, with no stalled solve on the way. The
+    # energy, compared with the lowest it reached since the body was last driven, shows the
+    # run-away at step 23 while the tip is at -0.37 m.
+    mesh, sim = beam_sim(cr.PCG(max_iterations=7, preconditioner="jacobi", tolerance=1e-10))
+    tip = mesh.nodes_on_plane("x", 5.0)
+    with pytest.warns(cr.SimulationWarning, match="above the lowest it reached"):
+        for _ in range(60):
+            sim.step(1)
+            if sim.stats["energy_growth_steps"]:
+                break
+    assert 15 <= sim.stats["steps"] <= 30
+    assert sim.stats["stalled_steps"] == 0
+    assert np.abs(sim.displacements[tip, 2]).max() < 0.5
 
 
 @pytest.mark.parametrize("solver", [cr.PCG(), cr.PCG(max_iterations=20, preconditioner="jacobi"), cr.Direct()])

@@ -14,9 +14,10 @@
 //     of 1 or more (it did not reduce the residual at all: the step is garbage);
 //   - inverted: elements inverted or flat (det F <= 0) at the state the step started from;
 //   - energy_growth: the total energy (elastic + kinetic, with the lumped mass, minus the work
-//     potential of the loads) grew by more than 1 % of its size in one step while nothing
-//     drove the body (loads unchanged, fixed nodes at rest). Implicit Euler dissipates, so
-//     this is a run-away (too few PCG iterations, a linearised step far too large).
+//     potential of the loads) rose by more than 1 % of its size above the lowest it reached
+//     since anything last drove the body (loads changed, fixed nodes moving, state written).
+//     Implicit Euler dissipates, so this is a run-away (too few PCG iterations, a linearised
+//     step far too large).
 // The last two are seen at the start of the next step (their data comes from its sweep). The
 // failure policy says what happens: Warn (the default) counts them in the stats, which the
 // Python layer turns into one warning per kind and run; Raise makes the step fail (state
@@ -164,7 +165,7 @@ class Simulation {
   Vec lumped_masses_;  // per node, for the kinetic energy of the energy check
   struct EnergyCheck {
     bool valid = false;
-    double total = 0;
+    double lowest = 0;  // the lowest total energy since the body was last driven
     Nodes load;
     Nodes x_end, v_end;  // the state the last call left: a user who writes into it drives the body
   } energy_check_, energy_check_backup_;
