@@ -16,6 +16,7 @@
 #include "corotate/simulation.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
+#include "embedding_scenario.hpp"
 #include "feedback_scenario.hpp"
 #include "mass_spring_scenario.hpp"
 
@@ -180,6 +181,10 @@ void usage() {
       "  --scenario feedback [--queries N] [--tool K]\n"
       "                      (first option) one haptic feedback query per method on a 10,290-tet\n"
       "                      beam; see bench/feedback_scenario.hpp\n"
+      "  --scenario embedding [--vertices N] [--coupling-vertices N] [--coupling-cells N]\n"
+      "                      (first option) the embedded render surface: per-frame update of\n"
+      "                      12,500 vertices, coupling 1M vertices to 100k tets; see\n"
+      "                      bench/embedding_scenario.hpp\n"
       "Each mesh first runs 'reference' (two-level PCG to 1e-10) so deviations are measured honestly.");
 }
 
@@ -192,8 +197,9 @@ int main(int argc, char** argv) {
     if (argc >= 3 && std::string(argv[1]) == "--scenario") {
       if (std::string(argv[2]) == "mass_spring") return bench::mass_spring_main(argc - 3, argv + 3);
       if (std::string(argv[2]) == "feedback") return bench::feedback_main(argc - 3, argv + 3);
+      if (std::string(argv[2]) == "embedding") return bench::embedding_main(argc - 3, argv + 3);
       if (std::string(argv[2]) != "beam")
-        throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring, feedback)");
+        throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring, feedback, embedding)");
       argc -= 2, argv += 2;
     }
     for (int a = 1; a < argc; ++a) {

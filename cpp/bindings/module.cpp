@@ -24,6 +24,7 @@ void bind_hyperelastic(py::module_& m);  // hyperelastic_bindings.cpp
 void bind_simulation(py::module_& m);  // simulation_bindings.cpp
 void bind_feedback(py::module_& m);    // feedback_bindings.cpp
 void bind_modal(py::module_& m);       // modal_bindings.cpp
+void bind_embedding(py::module_& m);  // embedding_bindings.cpp
 std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const PCGSettings& pcg);  // simulation_bindings.cpp
 
 namespace {
@@ -240,6 +241,7 @@ PYBIND11_MODULE(_core, m) {
   bind_simulation(m);  // simulation_bindings.cpp
   bind_feedback(m);  // feedback_bindings.cpp
   bind_modal(m);  // modal_bindings.cpp
+  bind_embedding(m);  // embedding_bindings.cpp
   bind_mass_spring(m);  // after ForceModel, which MassSpring derives from
   bind_hyperelastic(m);  // after ForceModel, which it returns
 }

@@ -18,6 +18,7 @@ import corotate._core as _core
 
 from .body import Body
 from .driven_body import SimulationWarning
+from .embedding import EmbeddedSurface, read_surface
 from .explicit import ExplicitSimulation
 from .feedback import HapticFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
@@ -45,5 +46,7 @@ __all__ = [
     "ExplicitSimulation",
     "HapticFeedback",
     "SimulationWarning",
+    "EmbeddedSurface",
+    "read_surface",
 ]
 __version__: str = _core.__version__  # from the VERSION file, through CMake

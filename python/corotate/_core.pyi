@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -470,6 +470,47 @@ class ModalIntegrator:
         ...
     @property
     def v(self) -> numpy.ndarray:
+        ...
+class SurfaceEmbedding:
+    def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], max_outside_distance: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
+        """
+        Couple a triangle surface (vertices (nv, 3), triangles (nt, 3)) to a body mesh (cell_type, points (n, 3), cells (m, k)); see embedding/surface_embedding.hpp.
+        """
+    def embed(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], out: numpy.ndarray) -> None:
+        """
+        Write the surface positions for body positions (n, 3) into out (nv, 3) in place.
+        """
+    def rotated_normals(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], out: numpy.ndarray) -> None:
+        """
+        Write the rest normals rotated by each vertex's element rotation at body positions (n, 3) into out in place.
+        """
+    def vertex_normals(self, surface_positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], out: numpy.ndarray) -> None:
+        """
+        Write the area-weighted unit vertex normals at surface positions (nv, 3) into out (nv, 3) in place.
+        """
+    @property
+    def elements(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        ...
+    @property
+    def local_coordinates(self) -> numpy.typing.NDArray[numpy.float64]:
+        ...
+    @property
+    def num_body_nodes(self) -> int:
+        ...
+    @property
+    def num_triangles(self) -> int:
+        ...
+    @property
+    def num_vertices(self) -> int:
+        ...
+    @property
+    def outside_distances(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def report(self) -> dict:
+        ...
+    @property
+    def rest_normals(self) -> numpy.typing.NDArray[numpy.float64]:
         ...
 class MassSpring(ForceModel):
     def __init__(self, nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], springs: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], damping: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], rest_lengths: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], masses: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:

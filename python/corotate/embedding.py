@@ -1,0 +1,207 @@
+"""A detailed render surface carried by a coarse simulated body (the paper's §2.2.2).
+
+The body is simulated; the surface (vertices and triangles, e.g. an OBJ/STL/PLY file) is
+only shown. Coupled once, each surface vertex keeps an element of the body and its local
+coordinates there, so each frame its position is a fixed weighted sum of that element's
+nodes. The C++ core does the coupling (with a grid search) and the per-frame work, writing
+into this object's preallocated arrays; see cpp/include/corotate/embedding/.
+
+    surface = cr.EmbeddedSurface.from_file(body, "dog.obj")
+    print(surface.report)           # vertices outside the body and how far
+    for frame in range(300):
+        sim.step(5)
+        surface.update(sim)         # surface.positions, surface.normals: (nv, 3) arrays
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+import corotate._core as _core
+
+from .body import Body
+from .mesh import VOLUME_CELL_TYPES, Mesh
+from .output import TimeSeriesWriter
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+__all__ = ["EmbeddedSurface", "read_surface"]
+
+NormalsMode = Literal["area", "rotated", "none"]
+_NORMALS = ("area", "rotated", "none")
+
+
+def read_surface(path: str | os.PathLike[str]) -> Mesh:
+    """Read a triangle surface from any file meshio reads (.obj, .stl, .ply, .vtu, .off, ...).
+
+    Triangle blocks are kept, quads are split into two triangles each, anything else
+    (lines, points, volume cells) is ignored. Returns a Mesh of cell type "triangle" with
+    only the vertices the triangles use. Raises FileNotFoundError / ValueError (naming the
+    file) for a missing or unreadable file or one without triangles or quads.
+    """
+    from .mesh_io import read_meshio_file
+
+    path = Path(os.fspath(path))
+    m = read_meshio_file(path)
+    blocks = []
+    for block in m.cells:
+        data = np.asarray(block.data, dtype=np.int64)
+        if block.type == "triangle":
+            blocks.append(data)
+        elif block.type == "quad":
+            blocks += [data[:, [0, 1, 2]], data[:, [0, 2, 3]]]
+    if not blocks:
+        found = sorted({b.type for b in m.cells})
+        raise ValueError(f"{path} holds no triangles or quads (cell types found: {found})")
+    triangles = np.concatenate(blocks)
+    try:
+        mesh = Mesh(np.asarray(m.points, dtype=np.float64)[:, :3], triangles, "triangle")
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from e
+    used = np.unique(mesh.cells)
+    if len(used) < mesh.n_nodes:  # drop unreferenced points (OBJ normals/texture points, ...)
+        new_index = np.full(mesh.n_nodes, -1, dtype=np.int64)
+        new_index[used] = np.arange(len(used))
+        mesh = Mesh(mesh.points[used], new_index[mesh.cells], "triangle")
+    return mesh
+
+
+class EmbeddedSurface:
+    """A triangle surface embedded in a tet, hex or hex20 body.
+
+    body        Body or volume Mesh (tetra, hexahedron, hexahedron20) that carries it
+    vertices    (nv, 3) surface vertices at the body's rest configuration
+    triangles   (nt, 3) vertex indices (may be empty: a point cloud, whose normals are zero)
+    max_outside_distance
+                a vertex farther outside the body than this many element sizes (the
+                longest edge of its element's bounding box) raises ValueError: the surface
+                does not belong to the body (wrong units or placement). Default 1.
+
+    Coupling (once, in C++): a vertex inside an element is assigned to it (barycentric
+    coordinates for tets, the inverse isoparametric map by Newton for hexes); a vertex inside
+    no element goes, as in the paper, to the element minimising the sum of its absolute
+    local coordinates (for hexes the natural-coordinate excess outside [-1, 1]).
+    ``report`` says how many vertices fell outside and how far.
+
+    Attributes (read-only)
+    ----------------------
+    mesh        the surface at rest, a Mesh of cell type "triangle"
+    positions   (nv, 3) float64 surface positions after the last update (rest at first)
+    normals     (nv, 3) float64 unit vertex normals after the last update
+    elements    (nv,) element of each vertex;  local_coordinates (nv, 3)
+    outside_distances  (nv,) distance outside the body / element size (0 inside)
+    report      {"outside": count, "max_outside_distance": largest, "farthest_vertex": index}
+
+    ``update`` overwrites positions and normals in place (no new arrays), so views of them
+    (e.g. a renderer's vertex buffer) stay valid.
+    """
+
+    def __init__(
+        self,
+        body: Body | Mesh,
+        vertices: ArrayLike,
+        triangles: ArrayLike,
+        max_outside_distance: float = 1.0,
+    ) -> None:
+        volume = body.mesh if isinstance(body, Body) else body
+        if not isinstance(volume, Mesh):
+            raise TypeError("body must be a corotate.Body or a volume corotate.Mesh")
+        if volume.cell_type not in VOLUME_CELL_TYPES:
+            raise ValueError(f"a surface embeds in {', '.join(VOLUME_CELL_TYPES)} cells, not {volume.cell_type!r}")
+        tri = np.asarray(triangles)
+        if tri.size == 0:
+            tri = np.zeros((0, 3), dtype=np.int64)
+        self._mesh = Mesh(vertices, tri, "triangle")  # checks shapes, finiteness and indices
+        if self._mesh.n_nodes == 0:
+            raise ValueError("the surface has no vertices")
+        self._n_body_nodes = volume.n_nodes
+        self._core = _core.SurfaceEmbedding(
+            volume.cell_type,
+            volume.points,
+            volume.cells,
+            self._mesh.points,
+            self._mesh.cells,
+            max_outside_distance=float(max_outside_distance),
+        )
+        self._positions = self._mesh.points.copy()
+        self._normals = np.ascontiguousarray(self._core.rest_normals)
+
+    @classmethod
+    def from_file(
+        cls, body: Body | Mesh, path: str | os.PathLike[str], max_outside_distance: float = 1.0
+    ) -> EmbeddedSurface:
+        """The surface in a file meshio reads (.obj, .stl, .ply, ...; see :func:`read_surface`)."""
+        surface = read_surface(path)
+        return cls(body, surface.points, surface.cells, max_outside_distance=max_outside_distance)
+
+    @property
+    def mesh(self) -> Mesh:
+        return self._mesh
+
+    @property
+    def n_vertices(self) -> int:
+        return self._mesh.n_nodes
+
+    @property
+    def n_triangles(self) -> int:
+        return self._mesh.n_cells
+
+    @property
+    def positions(self) -> np.ndarray:
+        return self._positions
+
+    @property
+    def normals(self) -> np.ndarray:
+        return self._normals
+
+    @property
+    def elements(self) -> np.ndarray:
+        return np.asarray(self._core.elements)
+
+    @property
+    def local_coordinates(self) -> np.ndarray:
+        return np.asarray(self._core.local_coordinates)
+
+    @property
+    def outside_distances(self) -> np.ndarray:
+        return np.asarray(self._core.outside_distances)
+
+    @property
+    def report(self) -> dict[str, Any]:
+        return dict(self._core.report)
+
+    def update(self, state: Any, normals: NormalsMode = "area") -> None:
+        """Move the surface to the body's current positions.
+
+        state    a Simulation (anything with ``.positions``) or body positions (n, 3)
+        normals  "area" (default): area-weighted normals of the deformed surface;
+                 "rotated": the rest normals turned by each vertex's element rotation
+                 (cheaper on a fine surface; exact for rigid motions, blind to bending
+                 within an element); "none": leave the normals as they are.
+        Raises ValueError for positions of the wrong shape or with NaN (nothing is changed).
+        """
+        if normals not in _NORMALS:
+            raise ValueError(f"normals must be one of {_NORMALS}, got {normals!r}")
+        x = getattr(state, "positions", state)
+        x = np.asarray(x, dtype=np.float64)
+        if x.shape != (self._n_body_nodes, 3):
+            raise ValueError(f"body positions must have shape ({self._n_body_nodes}, 3), got {x.shape}")
+        if normals == "rotated":
+            self._core.rotated_normals(x, self._normals)  # checks x before writing anything
+        self._core.embed(x, self._positions)
+        if normals == "area":
+            self._core.vertex_normals(self._positions, self._normals)
+
+    def series_writer(self, path_pvd: str | os.PathLike[str]) -> TimeSeriesWriter:
+        """A ParaView series writer for this surface (its own .pvd, e.g. beside the body's);
+        write frames with :meth:`write_frame`."""
+        return TimeSeriesWriter(path_pvd, self._mesh)
+
+    def write_frame(self, writer: TimeSeriesWriter, time: float) -> Path:
+        """Write the current positions (and "normal" point data) as one frame of writer."""
+        return writer.write(time, self._positions, {"normal": self._normals})
