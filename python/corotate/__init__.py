@@ -24,9 +24,11 @@ from .feedback import HapticFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
 from .mesh import Mesh, beam, box, read_mesh, rectangle, write_mesh
+from .meshing import tetrahedralize
 from .output import TimeSeriesWriter
 from .simulation import Simulation
 from .solvers import PCG, Direct
+from .surfaces import boundary_surface, loop_subdivide, sphere_surface, split_at_centroids
 
 __all__ = [
     "Mesh",
@@ -48,5 +50,10 @@ __all__ = [
     "SimulationWarning",
     "EmbeddedSurface",
     "read_surface",
+    "boundary_surface",
+    "loop_subdivide",
+    "split_at_centroids",
+    "sphere_surface",
+    "tetrahedralize",
 ]
 __version__: str = _core.__version__  # from the VERSION file, through CMake

@@ -6,7 +6,6 @@ from __future__ import annotations
 import meshio
 import numpy as np
 import pytest
-from scipy.spatial import ConvexHull
 from scipy.spatial.transform import Rotation
 
 import corotate as cr
@@ -16,15 +15,8 @@ ELEMENTS = ["tet4", "hex8", "hex20"]
 
 
 def sphere_surface(radius: float, centre=(0.0, 0.0, 0.0), n: int = 400) -> tuple[np.ndarray, np.ndarray]:
-    """A closed triangulated sphere: Fibonacci points and their convex hull, faces outward."""
-    k = np.arange(n) + 0.5
-    polar, azimuth = np.arccos(1 - 2 * k / n), np.pi * (1 + 5**0.5) * k
-    unit = np.column_stack([np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar), np.cos(polar)])
-    faces = ConvexHull(unit).simplices.copy()
-    normal = np.cross(unit[faces[:, 1]] - unit[faces[:, 0]], unit[faces[:, 2]] - unit[faces[:, 0]])
-    inward = np.einsum("ij,ij->i", normal, unit[faces].mean(axis=1)) < 0
-    faces[inward] = faces[inward][:, [0, 2, 1]]
-    return radius * unit + np.asarray(centre), faces
+    sphere = cr.sphere_surface(radius, n, centre)
+    return sphere.points, sphere.cells
 
 
 def wavy_cage(element: str, cells: int = 3) -> cr.Mesh:

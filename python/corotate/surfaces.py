@@ -1,0 +1,128 @@
+"""Triangle surfaces made from what the project has: the boundary of a volume mesh, and
+refinement by subdivision, e.g. a fine render surface for :class:`~corotate.EmbeddedSurface`
+from a coarse body's own boundary."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+
+from .mesh import Mesh
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+__all__ = ["boundary_surface", "loop_subdivide", "split_at_centroids", "sphere_surface"]
+
+# Faces of each cell type, ordered so that their right-hand normal points out of a
+# positively oriented cell (VTK order); quads are split into two triangles. Hex20 uses its
+# corners (the surface is then the straight-edged one).
+_OUTWARD_FACES = {
+    "tetra": [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
+    "hexahedron": [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]],
+}
+
+
+def boundary_surface(mesh: Mesh) -> Mesh:
+    """The boundary of a volume mesh as a triangle Mesh with outward normals: the cell faces
+    no other cell shares, on only the nodes they use (renumbered in their original order).
+    Hexahedra give two triangles per boundary face; hexahedron20 cells use their corners."""
+    if mesh.cell_type not in ("tetra", "hexahedron", "hexahedron20"):
+        raise ValueError(f"boundary_surface needs a volume mesh, got {mesh.cell_type!r} cells")
+    kind = "tetra" if mesh.cell_type == "tetra" else "hexahedron"
+    faces = np.concatenate([mesh.cells[:, f] for f in _OUTWARD_FACES[kind]])
+    key = np.sort(faces, axis=1)
+    _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+    outer = faces[np.sort(first[counts == 1])]
+    if outer.shape[1] == 4:
+        outer = np.concatenate([outer[:, [0, 1, 2]], outer[:, [0, 2, 3]]])
+    used = np.unique(outer)
+    index = np.full(mesh.n_nodes, -1, dtype=np.int64)
+    index[used] = np.arange(len(used))
+    return Mesh(mesh.points[used], index[outer], "triangle")
+
+
+def sphere_surface(radius: float = 1.0, n_vertices: int = 400, centre: ArrayLike = (0.0, 0.0, 0.0)) -> Mesh:
+    """A closed triangulated sphere: n_vertices evenly spread points (a Fibonacci spiral) and
+    their convex hull, all faces oriented outward."""
+    from scipy.spatial import ConvexHull
+
+    if not (radius > 0 and np.isfinite(radius)):
+        raise ValueError(f"radius must be finite and positive, got {radius}")
+    if int(n_vertices) < 4:
+        raise ValueError(f"a sphere needs at least 4 vertices, got {n_vertices}")
+    k = np.arange(int(n_vertices)) + 0.5
+    polar, azimuth = np.arccos(1 - 2 * k / len(k)), np.pi * (1 + 5**0.5) * k
+    unit = np.column_stack([np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar), np.cos(polar)])
+    faces = ConvexHull(unit).simplices.copy()
+    normal = np.cross(unit[faces[:, 1]] - unit[faces[:, 0]], unit[faces[:, 2]] - unit[faces[:, 0]])
+    inward = np.einsum("ij,ij->i", normal, unit[faces].mean(axis=1)) < 0
+    faces[inward] = faces[inward][:, [0, 2, 1]]
+    return Mesh(radius * unit + np.asarray(centre, dtype=np.float64), faces, "triangle")
+
+
+def _edges(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Unique edges (E, 2), the edge of each face side (F, 3; side s joins corners s and
+    s+1) and the number of faces on each edge (E,)."""
+    sides = np.stack([triangles, np.roll(triangles, -1, axis=1)], axis=2)  # (F, 3, 2)
+    edges, side_edge, counts = np.unique(
+        np.sort(sides.reshape(-1, 2), axis=1), axis=0, return_inverse=True, return_counts=True
+    )
+    return edges, side_edge.reshape(-1, 3), counts
+
+
+def loop_subdivide(surface: Mesh) -> Mesh:
+    """One step of Loop subdivision (Loop 1987): every triangle becomes four and the surface
+    gets smoother, converging to a C2 limit surface away from extraordinary vertices.
+
+    New edge points are 3/8 (a + b) + 1/8 (c + d) (c, d opposite the edge); old vertices
+    move to (1 - n beta) v + beta sum(neighbours), beta = (5/8 - (3/8 + cos(2 pi / n) / 4)^2) / n.
+    Edges with other than two faces (open borders, non-manifold edges) take their midpoints,
+    and their vertices stay where they are. Returns a new triangle Mesh (V + E vertices)."""
+    if surface.cell_type != "triangle":
+        raise ValueError(f"loop_subdivide needs a triangle mesh, got {surface.cell_type!r}")
+    x, tri = surface.points, surface.cells
+    n_vertices = surface.n_nodes
+    edges, side_edge, counts = _edges(tri)
+    # Edge points: the sum of the opposite corners over the edge's faces.
+    opposite = np.zeros((len(edges), 3))
+    for s in range(3):
+        np.add.at(opposite, side_edge[:, s], x[tri[:, (s + 2) % 3]])
+    midpoint = 0.5 * (x[edges[:, 0]] + x[edges[:, 1]])
+    interior = counts == 2
+    edge_points = midpoint.copy()
+    edge_points[interior] = 0.75 * midpoint[interior] + 0.125 * opposite[interior]
+
+    # Vertex points from the neighbour sums (each edge once per direction).
+    adjacency = sp.coo_matrix(
+        (np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())), shape=(n_vertices, n_vertices)
+    ).tocsr()
+    valence = np.asarray(adjacency.sum(axis=1)).ravel()
+    n = np.maximum(valence, 1)
+    beta = (5 / 8 - (3 / 8 + np.cos(2 * np.pi / n) / 4) ** 2) / n
+    moved = (1 - n * beta)[:, None] * x + beta[:, None] * (adjacency @ x)
+    fixed = np.zeros(n_vertices, dtype=bool)
+    fixed[edges[~interior].ravel()] = True
+    fixed |= valence == 0
+    vertex_points = np.where(fixed[:, None], x, moved)
+
+    e = side_edge + n_vertices  # new vertex index of each side's edge point
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    ab, bc, ca = e[:, 0], e[:, 1], e[:, 2]
+    faces = np.concatenate([np.column_stack(f) for f in ((a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca))])
+    return Mesh(np.concatenate([vertex_points, edge_points]), faces, "triangle")
+
+
+def split_at_centroids(surface: Mesh) -> Mesh:
+    """Every triangle split into three at its centroid (the same surface, V + F vertices and
+    3F triangles; the orientation is kept)."""
+    if surface.cell_type != "triangle":
+        raise ValueError(f"split_at_centroids needs a triangle mesh, got {surface.cell_type!r}")
+    tri = surface.cells
+    m = np.arange(surface.n_cells) + surface.n_nodes
+    centroids = surface.points[tri].mean(axis=1)
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    faces = np.concatenate([np.column_stack(f) for f in ((a, b, m), (b, c, m), (c, a, m))])
+    return Mesh(np.concatenate([surface.points, centroids]), faces, "triangle")
