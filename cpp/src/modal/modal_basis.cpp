@@ -12,15 +12,18 @@ void check_node_indices(const long long* nodes, Index count, Index n_nodes) {
 }
 
 void recover_displacements(const BasisMap& basis, const Vec& q, const long long* nodes, Index count, double* out) {
+  // One short dot product per DOF row (r entries, contiguous in the row-major basis): faster
+  // than Eigen's row-major matrix-vector product here (measured 2-7 ms against 7-12 ms for
+  // 300,000 rows of 20 on the shared machine), and the same code serves subsets.
+  const Index r = basis.cols();
+  const double* data = basis.data();
+  auto row_dot = [&](Index row) { return Eigen::Map<const Vec>(data + row * r, r).dot(q); };
   if (nodes == nullptr) {
-    Eigen::Map<Vec>(out, basis.rows()).noalias() = basis * q;
+    for (Index i = 0; i < basis.rows(); ++i) out[i] = row_dot(i);
     return;
   }
-  const Index r = basis.cols();
-  for (Index k = 0; k < count; ++k) {
-    const Index row = 3 * nodes[k];
-    Eigen::Map<Vec3>(out + 3 * k).noalias() = basis.block(row, 0, 3, r) * q;
-  }
+  for (Index k = 0; k < count; ++k)
+    for (Index a = 0; a < 3; ++a) out[3 * k + a] = row_dot(3 * nodes[k] + a);
 }
 
 void project_nodal_forces(const BasisMap& basis, const long long* nodes, Index count, const double* forces,
