@@ -1,5 +1,6 @@
 """Modal flexible bodies (the paper's §3): Craig-Bampton reduction, a ModalBody stepped in
-modal coordinates, geometric stiffness per load case and per mode, reduced StVK forces."""
+modal coordinates, geometric stiffness per load case and per mode, reduced StVK forces, partial rotation of
+displacements."""
 
 from __future__ import annotations
 
@@ -10,12 +11,15 @@ from .geometric_stiffness import (
     scaled_mode_geometric_stiffness,
 )
 from .modal_body import ModalBody
+from .partial_rotation import PartialRotation, least_squares_rotation
 from .reduced_stvk import modal_derivatives, reduced_stvk_tensors
 from .reduction import ModalBasis, craig_bampton
 
 __all__ = [
     "ModalBasis",
     "ModalBody",
+    "PartialRotation",
+    "least_squares_rotation",
     "craig_bampton",
     "linear_geometric_stiffness",
     "load_geometric_stiffness",
