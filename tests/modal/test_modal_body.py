@@ -11,6 +11,7 @@ import pytest
 
 import corotate as cr
 from corotate.modal import ModalBody, craig_bampton
+from corotate.modal.modal_stress import linear_stress, modal_stresses
 
 
 @pytest.fixture(scope="module")
@@ -136,3 +137,28 @@ def test_bad_input_leaves_the_state(reduced):
     assert mb.time == 0.0 and mb.dt == 0.01
     with pytest.raises(AttributeError, match="view"):
         mb.q = np.zeros(mb.n_modes)
+
+
+@pytest.mark.parametrize("element", ["tet4", "hex20"])
+def test_modal_stress_of_an_affine_field_is_exact(element):
+    # Patch test: u = A X has the constant strain sym(A) in every element.
+    mesh = cr.box((2.0, 1.0, 1.0), cells=(2, 1, 1), element=element)
+    body = cr.Body(mesh, cr.Material(E=2e5, nu=0.25, density=1.0), model="linear")
+    A = np.array([[1e-3, 2e-4, 0.0], [0.0, -3e-4, 5e-4], [1e-4, 0.0, 2e-4]])
+    sigma = linear_stress(body, mesh.points @ A.T)
+    eps = 0.5 * (A + A.T)
+    lam, mu = body.material.lame
+    expected = lam * np.trace(eps) * np.eye(3) + 2 * mu * eps
+    np.testing.assert_allclose(sigma, np.broadcast_to(expected, sigma.shape), atol=1e-12 * np.abs(expected).max())
+
+
+def test_modal_stresses_superpose(reduced):
+    mesh, body, basis, _tip = reduced
+    S = modal_stresses(body, basis)
+    assert S.shape == (basis.size, mesh.n_cells, 3, 3)
+    q = np.linspace(-1.0, 1.0, basis.size)
+    np.testing.assert_allclose(
+        np.tensordot(q, S, axes=1), linear_stress(body, basis.vectors @ q), rtol=1e-10, atol=1e-12 * np.abs(S).max()
+    )
+    with pytest.raises(ValueError, match="displacement"):
+        linear_stress(body, np.zeros(5))

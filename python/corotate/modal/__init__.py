@@ -11,6 +11,7 @@ from .geometric_stiffness import (
     scaled_mode_geometric_stiffness,
 )
 from .modal_body import ModalBody
+from .modal_stress import linear_stress, modal_stresses
 from .partial_rotation import PartialRotation, least_squares_rotation
 from .reduced_stvk import modal_derivatives, reduced_stvk_tensors
 from .reduction import ModalBasis, craig_bampton
@@ -21,6 +22,8 @@ __all__ = [
     "PartialRotation",
     "least_squares_rotation",
     "craig_bampton",
+    "linear_stress",
+    "modal_stresses",
     "linear_geometric_stiffness",
     "load_geometric_stiffness",
     "mode_geometric_stiffness",
