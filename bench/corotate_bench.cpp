@@ -18,6 +18,7 @@
 #include "corotate/solvers/pcg.hpp"
 #include "embedding_scenario.hpp"
 #include "feedback_scenario.hpp"
+#include "grab_scenario.hpp"
 #include "mass_spring_scenario.hpp"
 
 using namespace corotate;
@@ -185,6 +186,9 @@ void usage() {
       "                      (first option) the embedded render surface: per-frame update of\n"
       "                      12,500 vertices, coupling 1M vertices to 100k tets; see\n"
       "                      bench/embedding_scenario.hpp\n"
+      "  --scenario grab [--sizes 2,4] [--mesh FILE] [--stiffness K]\n"
+      "                      (first option) frame times after grabbing and releasing a node (attach\n"
+      "                      vs fix); see bench/grab_scenario.hpp\n"
       "Each mesh first runs 'reference' (two-level PCG to 1e-10) so deviations are measured honestly.");
 }
 
@@ -198,8 +202,10 @@ int main(int argc, char** argv) {
       if (std::string(argv[2]) == "mass_spring") return bench::mass_spring_main(argc - 3, argv + 3);
       if (std::string(argv[2]) == "feedback") return bench::feedback_main(argc - 3, argv + 3);
       if (std::string(argv[2]) == "embedding") return bench::embedding_main(argc - 3, argv + 3);
+      if (std::string(argv[2]) == "grab") return bench::grab_main(argc - 3, argv + 3);
       if (std::string(argv[2]) != "beam")
-        throw InvalidInput(std::string("unknown scenario ") + argv[2] + " (beam, mass_spring, feedback, embedding)");
+        throw InvalidInput(std::string("unknown scenario ") + argv[2] +
+                           " (beam, mass_spring, feedback, embedding, grab)");
       argc -= 2, argv += 2;
     }
     for (int a = 1; a < argc; ++a) {

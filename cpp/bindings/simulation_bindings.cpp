@@ -40,6 +40,7 @@ py::dict stability_dict(const StabilityEstimate& s) {
   py::dict d;
   d["critical_step"] = s.critical_step;
   d["omega_max"] = s.omega_max;
+  d["attachment_rate"] = s.attachment_rate;
   d["lambda_max"] = s.stiffness.value;
   d["damping_rate"] = s.damping_rate;
   d["bound"] = s.bound;
@@ -183,6 +184,29 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("num_nodes", &Simulation::num_nodes)
       .def_property("gravity", &Simulation::gravity, &Simulation::set_gravity)
       .def_property("fixed_nodes", &Simulation::fixed_nodes, &Simulation::set_fixed_nodes)
+      .def(
+          "attach",
+          [](Simulation& s, const std::vector<Index>& nodes, const PointsIn& targets, const Eigen::VectorXd& stiffness) {
+            s.attach(nodes, nodes_from(targets, "targets"), stiffness);
+          },
+          py::arg("nodes"), py::arg("targets"), py::arg("stiffness"),
+          "Attach nodes to targets ((m, 3)) by zero-rest-length springs (stiffness: m values [N/m]).")
+      .def(
+          "move_attachments",
+          [](Simulation& s, const std::vector<Index>& nodes, const PointsIn& targets) {
+            s.move_attachments(nodes, nodes_from(targets, "targets"));
+          },
+          py::arg("nodes"), py::arg("targets"), "New targets ((m, 3)) for attached nodes.")
+      .def("detach", &Simulation::detach, py::arg("nodes"), "Release attached nodes.")
+      .def("detach_all", &Simulation::detach_all, "Release every attached node.")
+      .def_property_readonly(
+          "attachments",
+          [](const Simulation& s) {
+            const Simulation::Claim claim(s, "reading the attachments");
+            const Attachments& a = s.attachments();
+            return py::make_tuple(a.nodes(), Eigen::MatrixXd(a.targets().transpose()), a.stiffness());
+          },
+          "(nodes, targets (m, 3), stiffness (m,)) of the attachment springs (copies).")
       .def_property("settings", &Simulation::settings, &Simulation::set_settings)
       .def_property(
           "failure_policy",

@@ -38,6 +38,7 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettin
   x_next_.setZero(3, n);
   v_next_.setZero(3, n);
   fixed_ = FixedDofs(model_->pattern(), std::vector<char>(3 * n, 0));
+  attachments_ = Attachments(n);
   lumped_masses_ = model_->lumped_masses();
   rebuild_gravity_forces();
 }
@@ -66,8 +67,9 @@ void Simulation::check_health(StepStats& st) {
     double kinetic = 0;
     for (Index i = 0; i < num_nodes(); ++i) kinetic += 0.5 * lumped_masses_[i] * v_.col(i).squaredNorm();
     const double potential = -as_dofs(load_).dot(as_dofs(x_) - as_dofs(model_->rest_positions()));
-    const double total = st.start_energy + kinetic + potential;
-    bool driven = !energy_check_.valid || energy_check_.load.cols() != load_.cols() || energy_check_.load != load_;
+    const double total = st.start_energy + attachments_.energy(x_) + kinetic + potential;
+    bool driven = !energy_check_.valid || energy_check_.load.cols() != load_.cols() || energy_check_.load != load_ ||
+                  energy_check_.attachments_version != attachments_.version();
     for (Index d : fixed_.list()) driven = driven || as_dofs(v_)[d] != 0.0;
     const double size = std::abs(st.start_energy) + kinetic + std::abs(potential) + 1e-300;
     // Against the lowest energy since the body was last driven, not the last step's: a slow
@@ -82,6 +84,7 @@ void Simulation::check_health(StepStats& st) {
     energy_check_.valid = true;
     energy_check_.lowest = driven ? total : std::min(energy_check_.lowest, total);
     energy_check_.load = load_;
+    energy_check_.attachments_version = attachments_.version();
   }
   if (problem.tellp() > 0 && failure_policy_ == FailurePolicy::Raise) {
     std::ostringstream msg;
@@ -94,7 +97,7 @@ void Simulation::check_health(StepStats& st) {
 }
 
 StepInput Simulation::input() {
-  return {*model_, x_, v_, load_, fixed_, *solver_, failure_policy_ != FailurePolicy::Ignore};
+  return {*model_, x_, v_, load_, fixed_, attachments_, *solver_, failure_policy_ != FailurePolicy::Ignore};
 }
 
 void Simulation::rebuild_gravity_forces() {
@@ -130,7 +133,27 @@ void Simulation::set_fixed_nodes(const std::vector<Index>& nodes) {
   fixed_ = FixedDofs(model_->pattern(), flags);
   fixed_nodes_ = nodes;
   integrator_->constraints_changed(fixed_);
-  solver_->reset();  // a cached factorization belongs to the old constraints
+  solver_->constraints_changed(fixed_);
+}
+
+void Simulation::attach(const std::vector<Index>& nodes, const Nodes& targets, const Vec& stiffness) {
+  const Claim claim(*this, "attaching nodes");
+  attachments_.attach(nodes, targets, stiffness);
+}
+
+void Simulation::move_attachments(const std::vector<Index>& nodes, const Nodes& targets) {
+  const Claim claim(*this, "moving attachments");
+  attachments_.move(nodes, targets);
+}
+
+void Simulation::detach(const std::vector<Index>& nodes) {
+  const Claim claim(*this, "detaching nodes");
+  attachments_.detach(nodes);
+}
+
+void Simulation::detach_all() {
+  const Claim claim(*this, "detaching nodes");
+  attachments_.clear();
 }
 
 std::unique_ptr<Integrator> Simulation::make_attached_integrator(const IntegratorSettings& settings) const {
@@ -250,6 +273,10 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
 StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed,
                                       const std::function<void(int done)>& after_each_load_step) {
   const Claim claim(*this, "solve_static");
+  if (!attachments_.empty())
+    throw InvalidInput(
+        "solve_static does not include attachment springs: detach the nodes first (or fix them and prescribe their "
+        "positions)");
   check_finite_state(x_, v_, f_ext_);
   x_backup_ = x_;
   model_->save_caches();

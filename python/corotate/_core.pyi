@@ -327,8 +327,20 @@ class Simulation:
         """
         Simulation of its own copy of `model`, stepped by the integrator of `settings`.
         """
+    def attach(self, nodes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], targets: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        """
+        Attach nodes to targets ((m, 3)) by zero-rest-length springs (stiffness: m values [N/m]).
+        """
     def damping_forces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
+    def detach(self, nodes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+        """
+        Release attached nodes.
+        """
+    def detach_all(self) -> None:
+        """
+        Release every attached node.
+        """
     def energy(self) -> float:
         ...
     def estimate_stability(self, bound: bool) -> dict:
@@ -340,6 +352,10 @@ class Simulation:
     def mass_csr(self) -> tuple:
         """
         The integrator's mass matrix as a CSR triple.
+        """
+    def move_attachments(self, nodes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], targets: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:
+        """
+        New targets ((m, 3)) for attached nodes.
         """
     def reset(self) -> None:
         """
@@ -362,6 +378,11 @@ class Simulation:
     @property
     def accelerations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
+    @property
+    def attachments(self) -> tuple[list[int], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        """
+        (nodes, targets (m, 3), stiffness (m,)) of the attachment springs (copies).
+        """
     @property
     def external_forces(self) -> numpy.ndarray:
         ...

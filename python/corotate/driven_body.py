@@ -68,6 +68,7 @@ class DrivenBody(SettableOnly):
         "velocities": _VIEW_HINT.format(name="velocities"),
         "external_forces": _VIEW_HINT.format(name="external_forces"),
         "fixed_nodes": "use fix(nodes) or free()",
+        "attachments": "use attach(), move_attachments() and detach()",
         "stats": "reset_stats() starts them afresh",
     }
 
@@ -157,11 +158,8 @@ class DrivenBody(SettableOnly):
             raise ValueError("gravity must be a 3-vector")
         self._sim.gravity = g
 
-    def fix(self, nodes: ArrayLike) -> None:
-        """Fix the given nodes (int indices or a boolean mask) in all three axes, replacing
-        the previous set. Fixed nodes feel no force and keep the velocity they have (zero
-        unless set); writing into ``positions``/``velocities`` between steps prescribes
-        their motion."""
+    def _node_list(self, nodes: ArrayLike) -> list[int]:
+        """Int indices (or one int, or a boolean mask with one entry per node) as a list."""
         nodes = np.asarray(nodes)
         if nodes.dtype == bool:
             if nodes.shape != (self.body.n_nodes,):
@@ -169,7 +167,81 @@ class DrivenBody(SettableOnly):
             nodes = np.flatnonzero(nodes)
         if nodes.size and not np.issubdtype(nodes.dtype, np.integer):
             raise ValueError("node indices must be integers")
-        self._sim.fixed_nodes = [int(i) for i in nodes.ravel()]
+        return [int(i) for i in nodes.ravel()]
+
+    def fix(self, nodes: ArrayLike) -> None:
+        """Fix the given nodes (int indices or a boolean mask) in all three axes, replacing
+        the previous set. Fixed nodes feel no force and keep the velocity they have (zero
+        unless set); writing into ``positions``/``velocities`` between steps prescribes
+        their motion. Cheap at any time (the solver keeps its preconditioner)."""
+        self._sim.fixed_nodes = self._node_list(nodes)
+
+    @staticmethod
+    def _targets(nodes: list[int], targets: ArrayLike) -> np.ndarray:
+        targets = np.asarray(targets, dtype=np.float64)
+        if targets.shape == (3,) and len(nodes) == 1:
+            targets = targets.reshape(1, 3)
+        if targets.shape != (len(nodes), 3):
+            raise ValueError(f"targets must have shape ({len(nodes)}, 3), one row per node; got {targets.shape}")
+        return targets
+
+    def attach(self, nodes: ArrayLike, targets: ArrayLike, stiffness: ArrayLike) -> None:
+        """Pull nodes towards target points with zero-rest-length springs: the right way to
+        drag a body (a vertex grabbed with the mouse, a tool).
+
+        nodes      int indices, one int, or a boolean mask
+        targets    (m, 3) points [m], or (3,) for one node
+        stiffness  k [N/m] > 0, one number for all or m numbers
+
+        Each spring adds the force k (target - x) to its node and its stiffness k I to the
+        system an implicit step solves, so it is stable for any k (a very stiff spring acts
+        like a fixed node moved to the target; an explicit step shrinks its stable step to
+        cover k / m). Move the targets between frames with move_attachments(); release with
+        detach(). None of these rebuilds anything (no factorization or preconditioner), so
+        a grab or release costs no extra frame time. Re-attaching an attached node replaces
+        its target and stiffness; a node that is also fixed stays fixed.
+
+        Do not drag through ``external_forces[i] = k * (target - x)``: that spring is
+        explicit (its force is frozen over the step), so beyond k ~ m / dt^2 every step
+        overshoots more than the last and the body flies away.
+
+        Raises ValueError (nothing changed) for an index out of range or listed twice,
+        targets of the wrong shape or not finite, or a stiffness that is not positive and
+        finite."""
+        node_list = self._node_list(nodes)
+        points = self._targets(node_list, targets)
+        k = np.asarray(stiffness, dtype=np.float64)
+        if k.ndim == 0:
+            k = np.full(len(node_list), float(k))
+        if k.shape != (len(node_list),):
+            raise ValueError(f"stiffness must be one number or {len(node_list)} numbers (one per node); got {k.shape}")
+        self._sim.attach(node_list, points, k)
+
+    def move_attachments(self, nodes: ArrayLike, targets: ArrayLike) -> None:
+        """New targets ((m, 3), or (3,) for one node) for attached nodes, e.g. the mouse
+        position each frame. Raises ValueError (nothing changed) for a node that is not
+        attached or a target that is not finite."""
+        node_list = self._node_list(nodes)
+        self._sim.move_attachments(node_list, self._targets(node_list, targets))
+
+    def detach(self, nodes: ArrayLike | None = None) -> None:
+        """Release the given attached nodes, or all of them (nodes=None)."""
+        if nodes is None:
+            self._sim.detach_all()
+        else:
+            self._sim.detach(self._node_list(nodes))
+
+    @property
+    def attachments(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(nodes (m,), targets (m, 3), stiffness (m,)) of the attachment springs (copies)."""
+        nodes, targets, stiffness = self._sim.attachments
+        return np.asarray(nodes, dtype=np.int64), targets, stiffness
+
+    def attachment_forces(self) -> np.ndarray:
+        """(m, 3) forces k (target - x) the springs exert on their nodes, in the order of
+        ``attachments`` (what a user dragging the body feels, with the opposite sign)."""
+        nodes, targets, stiffness = self.attachments
+        return stiffness[:, None] * (targets - self.positions[nodes])
 
     def free(self) -> None:
         """Release all fixed nodes."""
@@ -194,7 +266,7 @@ class DrivenBody(SettableOnly):
     def reset(self) -> None:
         """Back to the rest state: positions = rest, velocities and external forces zero,
         time 0, statistics reset, warm starts and stability estimates cleared (a stepped
-        run then repeats a fresh simulation's). Kept: fixed nodes, gravity, the settings (dt,
-        integrator, solver) and on_failure. Loud-failure warnings may be issued again."""
+        run then repeats a fresh simulation's). Kept: fixed nodes, attachments, gravity, the
+        settings (dt, integrator, solver) and on_failure. Loud-failure warnings may be issued again."""
         self._sim.reset()
         self._warned = set()

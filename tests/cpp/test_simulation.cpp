@@ -122,6 +122,10 @@ TEST(a_claimed_simulation_refuses_every_mutating_call) {
     CHECK_THROWS(sim->set_solver(std::make_unique<PCG>()), SimulationBusy);
     CHECK_THROWS(sim->reset(), SimulationBusy);
     CHECK_THROWS(sim->solve_static({}), SimulationBusy);
+    CHECK_THROWS(sim->attach({0}, Nodes::Zero(3, 1), Vec::Ones(1)), SimulationBusy);
+    CHECK_THROWS(sim->move_attachments({0}, Nodes::Zero(3, 1)), SimulationBusy);
+    CHECK_THROWS(sim->detach({0}), SimulationBusy);
+    CHECK_THROWS(sim->detach_all(), SimulationBusy);
     try {
       sim->step(1);
     } catch (const SimulationBusy& e) {
@@ -149,4 +153,59 @@ TEST(an_interruption_between_steps_restores_the_state) {
   std::vector<int> reported;
   sim->step(3, [&reported](int done) { reported.push_back(done); });
   CHECK((reported == std::vector<int>{1, 2, 3}) && sim->stats().steps == 5);  // the last step reports too
+}
+
+TEST(fixed_dofs_project_exactly_the_rows_and_columns_of_fixed_dofs) {
+  // Built from the fixed nodes' rows only, the projection must equal the definition: every
+  // entry in a fixed row or column zero, a fixed diagonal entry one, the rest untouched.
+  const auto mesh = fixtures::tet_beam(3, 2, 2);
+  const BlockSparseMatrix pattern = BlockSparseMatrix::from_cells(mesh.points.cols(), mesh.cells);
+  std::vector<char> flags(pattern.num_dofs(), 0);
+  for (Index d = 0; d < pattern.num_dofs(); ++d) flags[d] = fixtures::uniform() > 0.6;
+  BlockSparseMatrix A = pattern;
+  for (double& v : A.values()) v = fixtures::uniform(1, 2);
+  const BlockSparseMatrix before = A;
+  FixedDofs(pattern, flags).project(A);
+  const auto& start = pattern.row_start();
+  const auto& cols = pattern.columns();
+  int wrong = 0;
+  for (Index i = 0; i < pattern.num_nodes(); ++i)
+    for (int k = start[i]; k < start[i + 1]; ++k)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+          const Index row = 3 * i + r, col = 3 * cols[k] + c;
+          const double expected =
+              (flags[row] || flags[col]) ? (row == col ? 1.0 : 0.0) : before.values()[9 * k + 3 * r + c];
+          wrong += A.values()[9 * k + 3 * r + c] != expected;
+        }
+  CHECK(wrong == 0);
+}
+
+TEST(attachments_are_part_of_every_integrator_and_restored_with_a_failed_step) {
+  // A stiff spring pulls the free end's first node to a target: every integrator ends near it
+  // (damped), and a failing call leaves the state and the springs as they were.
+  for (const auto& name : integrator_names()) {
+    auto sim = beam(integrator_from_name(name));
+    sim->set_gravity(Vec3::Zero());
+    IntegratorSettings s = sim->settings();
+    s.mass_damping = 20;
+    sim->set_settings(s);
+    const Index node = sim->num_nodes() - 1;
+    const Vec3 target = sim->positions().col(node) + Vec3(0, 0, 0.05);
+    const double k = 1e8;  // far stiffer than the beam at its tip
+    sim->attach({node}, target, Vec::Constant(1, k));
+    CHECK_THROWS(sim->attach({node}, Nodes::Constant(3, 1, NAN), Vec::Constant(1, k)), InvalidInput);
+    CHECK_THROWS(sim->attach({node}, target, Vec::Constant(1, -k)), InvalidInput);
+    CHECK(sim->attachments().size() == 1 && sim->attachments().targets().col(0) == target);
+    sim->step(is_explicit(sim->settings().kind) ? 2000 : 200);
+    CHECK((sim->positions().col(node) - target).norm() < 1e-3 * 0.05);
+    sim->velocities().col(0) = Vec3::Constant(NAN);
+    const Nodes x = sim->positions();
+    CHECK_THROWS(sim->step(1), InvalidInput);
+    CHECK(sim->positions() == x && sim->attachments().size() == 1);
+    sim->velocities().col(0).setZero();
+    sim->detach({node});
+    CHECK(sim->attachments().empty());
+    CHECK_THROWS(sim->detach({node}), InvalidInput);
+  }
 }

@@ -98,9 +98,22 @@ class Simulation {
   const Vec3& gravity() const { return gravity_; }
   // Fix the listed nodes in all three axes (replacing the previous set). A step does not
   // change their velocity: they keep it (zero unless set) and move with it, so writing
-  // positions and velocities between steps prescribes their motion.
+  // positions and velocities between steps prescribes their motion. Cheap at any time: the
+  // projection is found from the fixed nodes' rows only, and the linear solver keeps its
+  // factorization or preconditioner hierarchy (LinearSolver::constraints_changed).
   void set_fixed_nodes(const std::vector<Index>& nodes);
   const std::vector<Index>& fixed_nodes() const { return fixed_nodes_; }
+
+  // Attachments (fem/attachments.hpp): zero-rest-length springs of stiffness k pulling nodes
+  // towards targets, part of the implicit system (stable for any k) or of the explicit forces
+  // and stable step. For dragging: attach on grab, move the targets between frames, detach on
+  // release; none of it rebuilds anything. targets: 3 x nodes.size(); stiffness: one per node.
+  // Throws InvalidInput (nothing changed) for bad indices, targets or stiffness.
+  void attach(const std::vector<Index>& nodes, const Nodes& targets, const Vec& stiffness);
+  void move_attachments(const std::vector<Index>& nodes, const Nodes& targets);
+  void detach(const std::vector<Index>& nodes);
+  void detach_all();
+  const Attachments& attachments() const { return attachments_; }
 
   // A new integrator (validated first; on InvalidInput nothing changes).
   void set_settings(const IntegratorSettings& settings);
@@ -121,10 +134,11 @@ class Simulation {
   // Back to the rest state: positions = rest, velocities, accelerations and external forces
   // zero, time 0, statistics reset, the integrator's carried state (warm starts, stability
   // estimates), the solver's factorizations and the model's rotation caches cleared. The fixed
-  // nodes, gravity, settings, solver kind and failure policy are kept.
+  // nodes, attachments, gravity, settings, solver kind and failure policy are kept.
   void reset();
 
-  // Static equilibrium under external forces and gravity; velocities become zero.
+  // Static equilibrium under external forces and gravity; velocities become zero. Refuses
+  // (InvalidInput) while nodes are attached.
   // prescribed (3 x n, optional): end positions of the fixed nodes, reached in the load steps
   // (displacement control). Throws SolverFailure and restores the state when it does not
   // converge.
@@ -159,6 +173,7 @@ class Simulation {
   Vec3 gravity_ = Vec3::Zero();
   std::vector<Index> fixed_nodes_;
   FixedDofs fixed_;
+  Attachments attachments_;
   double time_ = 0;
   SimulationStats stats_;
   FailurePolicy failure_policy_ = FailurePolicy::Warn;
@@ -167,6 +182,7 @@ class Simulation {
     bool valid = false;
     double lowest = 0;  // the lowest total energy since the body was last driven
     Nodes load;
+    long long attachments_version = -1;  // the springs of the last check (moving them drives the body)
     Nodes x_end, v_end;  // the state the last call left: a user who writes into it drives the body
   } energy_check_, energy_check_backup_;
   mutable std::atomic<bool> busy_{false};  // see Claim

@@ -9,16 +9,32 @@ FixedDofs::FixedDofs(const BlockSparseMatrix& pattern, const std::vector<char>& 
   const auto& cols = pattern.columns();
   for (Index d = 0; d < static_cast<Index>(fixed.size()); ++d)
     if (fixed[d]) fixed_list_.push_back(d);
-  for (Index i = 0; i < pattern.num_nodes(); ++i)
-    for (int k = start[i]; k < start[i + 1]; ++k)
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) {
-          const bool row_fixed = fixed[3 * i + r], col_fixed = fixed[3 * cols[k] + c];
-          if (!row_fixed && !col_fixed) continue;
-          const int v = 9 * k + 3 * r + c;
-          if (row_fixed && cols[k] == i && r == c) unit_values_.push_back(v);
-          else zero_values_.push_back(v);
-        }
+  // Only the blocks in the rows of nodes with a fixed DOF and their mirror images (the
+  // pattern is symmetric) are touched: visiting just those keeps a change of the fixed set
+  // cheap on a large mesh.
+  auto classify = [&](int k, Index row_node, Index col_node) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        const bool row_fixed = fixed[3 * row_node + r], col_fixed = fixed[3 * col_node + c];
+        if (!row_fixed && !col_fixed) continue;
+        const int v = 9 * k + 3 * r + c;
+        if (row_fixed && col_node == row_node && r == c) unit_values_.push_back(v);
+        else zero_values_.push_back(v);
+      }
+  };
+  for (Index i = 0; i < pattern.num_nodes(); ++i) {
+    if (!fixed[3 * i] && !fixed[3 * i + 1] && !fixed[3 * i + 2]) continue;
+    for (int k = start[i]; k < start[i + 1]; ++k) {
+      const Index j = cols[k];
+      classify(k, i, j);
+      if (j != i) classify(pattern.block_index(j, i), j, i);
+    }
+  }
+  // Both nodes of a block may be fixed: each value once.
+  for (auto* values : {&zero_values_, &unit_values_}) {
+    std::sort(values->begin(), values->end());
+    values->erase(std::unique(values->begin(), values->end()), values->end());
+  }
 }
 
 void FixedDofs::project(BlockSparseMatrix& A) const {

@@ -57,6 +57,7 @@ void ExplicitIntegrator::acceleration(const StepInput& in, const Nodes& x, const
   a = in.load;
   if (const ExplicitTraits* traits = in.model.explicit_traits()) traits->add_forces_and_damping(x, v, a);
   else in.model.add_forces(x, a);
+  in.attachments.add_forces(x, a);
   const double alpha = settings().mass_damping;
   const double* im = inv_mass_.data();
   for (Index i = 0; i < a.cols(); ++i) a.col(i) = im[i] * a.col(i) - alpha * v.col(i);
@@ -78,13 +79,18 @@ StabilityEstimate ExplicitIntegrator::estimate_stability(const StepInput& in, bo
     else traits->add_damping_matrix(in.x, 1.0, work_);
     est.damping = largest_eigenvalue(work_, inv_sqrt_mass_);
   }
-  const double omega_sq = std::max(est.stiffness.value, 0.0);
-  est.omega_max = std::sqrt(omega_sq);
-  est.damping_rate = std::max(est.damping.value, 0.0) + settings().mass_damping;
-  est.critical_step = critical_time_step(omega_sq, est.damping_rate);
+  complete(est, in.attachments);
   estimate_ms_ += ms_since(t0);
   ++estimates_;
   return est;
+}
+
+void ExplicitIntegrator::complete(StabilityEstimate& est, const Attachments& attachments) const {
+  est.attachment_rate = attachments.max_rate(masses_);
+  const double omega_sq = std::max(est.stiffness.value, 0.0) + est.attachment_rate;
+  est.omega_max = std::sqrt(omega_sq);
+  est.damping_rate = std::max(est.damping.value, 0.0) + settings().mass_damping;
+  est.critical_step = critical_time_step(omega_sq, est.damping_rate);
 }
 
 const StabilityEstimate& ExplicitIntegrator::stability(const StepInput& in) {
@@ -100,6 +106,7 @@ const StabilityEstimate& ExplicitIntegrator::stability(const StepInput& in) {
     estimate_.stale = false;
     if (online) estimate_.x_at = in.x;
   }
+  complete(estimate_.value, in.attachments);  // the springs may have changed since (cheap)
   return estimate_.value;
 }
 

@@ -39,6 +39,10 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     out.forces = &force_;
     out.stiffness = &system_;
     in.model.evaluate(in.x, what, out);
+    // The attachment springs are linear: their force at y is their linearisation, and their
+    // stiffness goes into A like the body's (damped by beta with it).
+    in.attachments.add_forces(y_, force_);
+    in.attachments.add_stiffness(what.stiffness_scale, system_);
     if (in.diagnose) {
       stats.start_energy = out.energy;
       stats.start_inverted = out.inverted;

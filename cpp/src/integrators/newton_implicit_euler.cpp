@@ -39,7 +39,7 @@ class NewtonImplicitEuler final : public ImplicitIntegrator {
 
 double NewtonImplicitEuler::incremental_potential(const StepInput& in, const Nodes& y) {
   const double dt = settings().time_step;
-  double phi = in.model.energy(y) - as_dofs(in.load).dot(as_dofs(y));
+  double phi = in.model.energy(y) + in.attachments.energy(y) - as_dofs(in.load).dot(as_dofs(y));
   rhs_ = as_dofs(y) - as_dofs(target_);
   mass_.multiply(rhs_, work_);
   phi += 0.5 / (dt * dt) * rhs_.dot(work_);
@@ -63,6 +63,8 @@ void NewtonImplicitEuler::gradient_and_hessian(const StepInput& in, const Nodes&
   out.forces = &force_;
   out.stiffness = &system_;
   in.model.evaluate(y, what, out);
+  in.attachments.add_forces(y, force_);
+  if (kind != StiffnessKind::None) in.attachments.add_stiffness(1.0, system_);
   rhs_ = as_dofs(y) - as_dofs(target_);
   mass_.multiply(rhs_, work_);
   as_dofs(force_) -= work_ / (dt * dt);
@@ -85,10 +87,13 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
   // Start from the inertial prediction x_n + dt v_n; fixed DOFs stay there (they keep v).
   target_ = in.x + dt * in.v;
   x_ = target_;
-  // Scale of the gradient for the tolerance: the loads, the momentum per step and the
+  // Scale of the gradient for the tolerance: the loads (the attachment springs' pull
+  // included: it loads the body as an external force does), the momentum per step and the
   // elastic forces at the start of the step, whichever is largest.
   mass_.multiply(as_dofs(in.v), work_);
-  Vec reference = as_dofs(in.load);
+  force_ = in.load;
+  in.attachments.add_forces(in.x, force_);
+  Vec reference = as_dofs(force_);
   in.fixed.project(reference);
   in.fixed.project(work_);
   double scale = reference.norm() + work_.norm() / dt;

@@ -14,12 +14,29 @@ PCG::PCG(const PCGSettings& settings)
   settings.validate();
 }
 
+void PCG::precondition() {
+  if (fixed_dofs_.empty()) {
+    preconditioner_->apply(r_, z_);
+    return;
+  }
+  // The decoupled fixed rows are identity rows: their residual enters neither the
+  // preconditioner nor the free DOFs' correction.
+  for (size_t k = 0; k < fixed_dofs_.size(); ++k) {
+    fixed_residual_[k] = r_[fixed_dofs_[k]];
+    r_[fixed_dofs_[k]] = 0.0;
+  }
+  preconditioner_->apply(r_, z_);
+  for (size_t k = 0; k < fixed_dofs_.size(); ++k) r_[fixed_dofs_[k]] = z_[fixed_dofs_[k]] = fixed_residual_[k];
+}
+
 SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   const Index n = b.size();
   r_.resize(n);
   z_.resize(n);
   p_.resize(n);
   q_.resize(n);
+  if (!fixed_dofs_.empty() && fixed_dofs_.back() >= n)
+    throw InvalidInput("PCG: the fixed DOFs it was given do not belong to this " + std::to_string(n) + "-DOF system");
   if (!settings_.warm_start || x.size() != n) x.setZero(n);
   preconditioner_->compute(A);
 
@@ -36,7 +53,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   double r_norm = r_.norm();
   if (r_norm <= target) return {0, r_norm / b_norm, true};
 
-  preconditioner_->apply(r_, z_);
+  precondition();
   p_ = z_;
   double rz = r_.dot(z_);
   int it = 0;
@@ -52,7 +69,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
     ++it;
     r_norm = r_.norm();
     if (r_norm <= target) break;
-    preconditioner_->apply(r_, z_);
+    precondition();
     const double rz_new = r_.dot(z_);
     p_ = z_ + (rz_new / rz) * p_;
     rz = rz_new;

@@ -21,6 +21,10 @@
 //   - Online policy: the linearised system at the current positions, re-estimated at the
 //     start of a step whenever some node has moved more than 5 % of the shortest distance
 //     between coupled nodes at rest since the last estimate.
+// Attachment springs (fem/attachments.hpp) add k I on their nodes' diagonal blocks, so by
+// Weyl's inequality lambda_max(M^-1 (K + K_a)) <= lambda_max(M^-1 K) + max k / m: that bound
+// is added to the body's estimate at every step, and attaching or detaching needs no new
+// eigenvalue estimate. A stiff spring on a light node shrinks the stable step accordingly.
 #pragma once
 
 #include "corotate/integrators/critical_time_step.hpp"
@@ -31,7 +35,8 @@ namespace corotate {
 struct StabilityEstimate {
   EigenEstimate stiffness;  // of M^-1 K (or of its bound)
   EigenEstimate damping;    // of M^-1 C (or of its bound); zero without model damping
-  double omega_max = 0;     // sqrt of the stiffness estimate [rad/s]
+  double attachment_rate = 0;  // max k / m of the attachment springs [1/s^2], added to the stiffness estimate
+  double omega_max = 0;     // sqrt of (stiffness estimate + attachment rate) [rad/s]
   double damping_rate = 0;  // c = damping estimate + mass damping [1/s]
   double critical_step = 0; // dt_crit [s]
   bool bound = false;       // from the configuration-independent bound (Fixed policy)
@@ -62,6 +67,8 @@ class ExplicitIntegrator : public Integrator {
   virtual void substep(const StepInput& in, Nodes& x, Nodes& v, double h) = 0;
   // a = M^-1 (f(x, v) + load) - alpha v on free DOFs, 0 on fixed ones.
   void acceleration(const StepInput& in, const Nodes& x, const Nodes& v, Nodes& a);
+  // omega_max, damping rate and critical step of est from its estimates and the attachments.
+  void complete(StabilityEstimate& est, const Attachments& attachments) const;
 
  private:
   ForceModel* model_ = nullptr;

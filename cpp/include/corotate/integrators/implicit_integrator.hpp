@@ -26,7 +26,9 @@
 // symmetric, ForceModel::symmetric_tangent()): for them the "gradient" is the residual of
 // the step's equations, the system is solved by sparse LU and the line search is Armijo on
 // |gradient|^2 instead of Phi (on Phi it stalled: 1/2 u^T K_e u is not their potential).
-// Fixed DOFs keep dv = 0 (their velocity) by projection (see FixedDofs).
+// Fixed DOFs keep dv = 0 (their velocity) by projection (see FixedDofs). Both integrators
+// count the attachment springs (fem/attachments.hpp) as part of the body: their energy in E,
+// their force in f, their stiffness k I in K, so a grab of any stiffness is stable.
 #pragma once
 
 #include "corotate/integrators/integrator.hpp"

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "corotate/fem/attachments.hpp"
 #include "corotate/fem/fixed_dofs.hpp"
 #include "corotate/models/force_model.hpp"
 #include "corotate/solvers/linear_solver.hpp"
@@ -50,7 +51,8 @@ const std::vector<std::string>& on_unstable_names();  // "substep", "raise", "al
 OnUnstable on_unstable_from_name(const std::string& name);
 const char* on_unstable_name(OnUnstable mode);
 
-// What one step sees: the model, the state at its start, the loads, the fixed DOFs and the
+// What one step sees: the model, the state at its start, the loads, the fixed DOFs, the
+// attachment springs (part of the elastic forces and stiffness for every integrator) and the
 // linear solver (implicit integrators).
 struct StepInput {
   ForceModel& model;
@@ -58,6 +60,7 @@ struct StepInput {
   const Nodes& v;     // 3 x n velocities
   const Nodes& load;  // 3 x n external forces, gravity included
   const FixedDofs& fixed;
+  const Attachments& attachments;
   LinearSolver& solver;
   bool diagnose = true;  // compute what the loud-failure checks need (start energy, inversions)
 };

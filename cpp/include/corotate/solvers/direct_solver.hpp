@@ -11,6 +11,8 @@ namespace corotate {
 class DirectSolver final : public LinearSolver {
  public:
   void reset() override { analysed_ = false; }
+  // Projection keeps the pattern, and every solve factorizes numerically: nothing to forget.
+  void constraints_changed(const FixedDofs&) override {}
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
 
  private:

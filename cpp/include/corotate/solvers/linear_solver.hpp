@@ -1,6 +1,7 @@
 // Interface of the solvers for the symmetric positive definite systems of a step.
 #pragma once
 
+#include "corotate/fem/fixed_dofs.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
@@ -26,6 +27,10 @@ class LinearSolver {
   virtual ~LinearSolver() = default;
   // Forget everything cached about earlier systems (pattern, constraints or dt changed).
   virtual void reset() = 0;
+  // The fixed DOFs of the systems to come changed (their rows and columns are projected out:
+  // identity rows, see FixedDofs). The pattern is the same, so the default forgets only what
+  // a solver cannot reuse; see the overrides.
+  virtual void constraints_changed(const FixedDofs&) { reset(); }
   // Rest node positions (3 x n), for solvers whose preconditioner uses the geometry.
   virtual void set_geometry(const Nodes&) {}
   // Solve A x = b. x holds the initial guess on entry (used by warm-started iterative

@@ -24,12 +24,24 @@ class PCG final : public LinearSolver {
   explicit PCG(const PCGSettings& settings = {});
   const PCGSettings& settings() const { return settings_; }
   void reset() override { preconditioner_->reset(); }
+  // Keeps the preconditioner (a reference factorization or two-level hierarchy built for the
+  // earlier constraints) and applies it as P Pc P + (I - P) with P the projection onto the
+  // free DOFs, which is exact on the decoupled fixed rows and SPD. Fixing, releasing or
+  // attaching a few nodes is a low-rank change of the system: it costs a few CG iterations,
+  // not a rebuild (set_solver or reset rebuilds).
+  void constraints_changed(const FixedDofs& fixed) override {
+    fixed_dofs_ = fixed.list();
+    fixed_residual_.resize(static_cast<Index>(fixed_dofs_.size()));
+  }
   void set_geometry(const Nodes& rest) override { preconditioner_->set_geometry(rest); }
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
 
  private:
   PCGSettings settings_;
   std::unique_ptr<Preconditioner> preconditioner_;
+  void precondition();  // z = preconditioned r, with the fixed DOFs decoupled
+  std::vector<Index> fixed_dofs_;  // ascending
+  Vec fixed_residual_;
   Vec r_, z_, p_, q_;  // work vectors, sized on first use
 };
 
