@@ -207,3 +207,18 @@ def test_attaching_from_a_progress_callback_is_refused_as_busy():
         sim.step(2, progress)
     for a, b in zip(before, state(sim)):
         np.testing.assert_array_equal(a, b)
+
+
+def test_the_drag_that_runs_away_through_external_forces_is_silent_through_attach():
+    # The scene of test_loud_failures.py's external-force drag (dt^2 k / m about 1e5), which
+    # inverts elements in its first step: the same spring as an attachment drags for 300
+    # frames with no loud failure, and the node settles just below its target.
+    mesh = cr.beam(1.0, 0.2, 0.2, cells=(10, 2, 2))
+    sim = cr.Simulation(cr.Body(mesh, cr.Material(E=1e5, nu=0.3, density=1000.0)), dt=0.01, rayleigh=(2.0, 0.0))
+    sim.fix(mesh.nodes_on_plane("x", 0.0))
+    grab = mesh.nearest_node((1.0, 0.1, 0.1))
+    target = mesh.points[grab] + (0.0, 0.0, 0.3)
+    sim.attach(grab, target, 1e6)
+    sim.step(300)
+    assert sim.stats["inverted_steps"] == sim.stats["energy_growth_steps"] == sim.stats["stalled_steps"] == 0
+    assert 0.0 < target[2] - sim.positions[grab, 2] < 1e-3
