@@ -1,4 +1,5 @@
-"""Command line: ``corotate demo`` (the main job), ``corotate scenes`` (mass-spring) and ``corotate bench``."""
+"""Command line: ``corotate demo`` (the main job), ``corotate view`` (live, with the mouse), ``corotate scenes``
+(mass-spring) and ``corotate bench``."""
 
 from __future__ import annotations
 
@@ -8,15 +9,17 @@ import subprocess
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from . import __version__
 
 
-def _demo(args: argparse.Namespace) -> int:
-    from . import PCG, Body, Material, Simulation, TimeSeriesWriter, beam, read_mesh
-    from .picture import render_snapshots
+def _demo_simulation(args: argparse.Namespace) -> tuple[Any, Any, np.ndarray, np.ndarray, int]:
+    """The body of ``demo`` and ``view`` from their shared options: (mesh, simulation, fixed
+    nodes, gravity, clamped axis)."""
+    from . import PCG, Body, Material, Simulation, beam, read_mesh
 
     if args.mesh:
         mesh = read_mesh(args.mesh)
@@ -36,7 +39,15 @@ def _demo(args: argparse.Namespace) -> int:
     body = Body(mesh, Material(E=args.E, nu=args.nu, density=args.density), model=args.model)
     sim = Simulation(body, dt=args.dt, solver=PCG(), gravity=gravity, rayleigh=(args.damping, 0.0))
     sim.fix(fixed)
+    return mesh, sim, fixed, gravity, axis
 
+
+def _demo(args: argparse.Namespace) -> int:
+    from . import TimeSeriesWriter
+    from .picture import render_snapshots
+
+    mesh, sim, fixed, gravity, axis = _demo_simulation(args)
+    extent = np.ptp(mesh.points, axis=0).max()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     pvd = out / "demo.pvd"
@@ -87,6 +98,33 @@ def _progress(frame: int, frames: int) -> None:
     print(f"\r  [{'#' * done}{'.' * (width - done)}] frame {frame}/{frames}", end=end, flush=True)
 
 
+def _view(args: argparse.Namespace) -> int:
+    from .view import InteractiveScene, Window
+
+    mesh, sim, fixed, gravity, _ = _demo_simulation(args)
+    surface = None
+    if args.surface:
+        from .embedding import EmbeddedSurface
+
+        surface = EmbeddedSurface.from_file(sim.body, args.surface)
+    scene = InteractiveScene(sim, surface=surface, max_steps=args.steps_per_frame, gravity=gravity)
+    print(
+        f"corotate view: {mesh.n_cells} {mesh.cell_type} cells, {mesh.n_nodes} nodes, {len(fixed)} fixed"
+        + (f", showing {args.surface} ({len(scene.triangles)} triangles)" if surface is not None else "")
+        + f"; grab stiffness {scene.grab_stiffness:.3g} N/m"
+    )
+    window = Window(scene, backend=args.backend)
+    if args.frames is None:
+        window.show()
+    else:
+        window.run_frames(args.frames)
+    if args.screenshot:
+        window.screenshot(args.screenshot)
+        print(f"  wrote {args.screenshot}")
+    print(f"  {scene.status()}")
+    return 0
+
+
 def _scenes(args: argparse.Namespace) -> int:
     from . import scenes
 
@@ -134,6 +172,42 @@ def build_parser() -> argparse.ArgumentParser:
     )
     demo.add_argument("--out", default="corotate-demo", help="output folder (default: corotate-demo)")
     demo.add_argument("--frames", type=int, default=60, help="frames to write (default 60)")
+    demo.add_argument(
+        "--no-picture",
+        dest="picture",
+        action="store_false",
+        help="do not write OUT/demo.png (the surface at six instants; written when matplotlib is installed)",
+    )
+    _add_body_arguments(demo)
+    demo.set_defaults(func=_demo)
+
+    view = sub.add_parser(
+        "view",
+        help="watch the demo body live in a window and drag it with the mouse (needs the extra [view])",
+        description="The demo's body (or --mesh) simulated live in a polyscope window, paced to the wall clock "
+        "(at most --steps-per-frame steps per frame). Shift + left drag grabs the node nearest to the point "
+        "under the cursor and pulls it through a stiff implicit spring (Simulation.attach); the panel pauses, "
+        "resets, switches gravity and shows the real-time ratio. --surface shows a render surface embedded in "
+        "the body instead of its boundary. Needs polyscope: pip install 'corotate-fem[view]'.",
+    )
+    view.add_argument("--surface", help="a triangle surface file (.obj, .stl, .ply, ...) to embed in the body and show")
+    view.add_argument(
+        "--frames", type=int, default=None, help="run this many frames and return instead of waiting for the window"
+    )
+    view.add_argument("--screenshot", help="write a PNG of the last frame to this path")
+    view.add_argument(
+        "--backend",
+        default="auto",
+        choices=["auto", "openGL3_glfw", "openGL3_egl", "openGL_mock"],
+        help="polyscope backend (default auto; openGL_mock draws nothing, for tests)",
+    )
+    _add_body_arguments(view)
+    view.set_defaults(func=_view)
+    return _add_other_commands(parser, sub)
+
+
+def _add_body_arguments(demo: argparse.ArgumentParser) -> None:
+    """The body and stepping options that ``demo`` and ``view`` share."""
     demo.add_argument("--steps-per-frame", type=int, default=5, help="time steps per frame (default 5)")
     demo.add_argument("--dt", type=float, default=0.01, help="time step in seconds (default 0.01)")
     demo.add_argument("--mesh", help="mesh file (.vtu, .msh, TetGen .node/.ele, ...) instead of the beam")
@@ -159,12 +233,6 @@ def build_parser() -> argparse.ArgumentParser:
         help="mass-proportional damping alpha in 1/s (Rayleigh alpha; default 1: the swing dies out "
         "over a few seconds; 0 swings undamped)",
     )
-    demo.add_argument(
-        "--no-picture",
-        dest="picture",
-        action="store_false",
-        help="do not write OUT/demo.png (the surface at six instants; written when matplotlib is installed)",
-    )
     demo.add_argument("--E", type=float, default=1e6, help="Young's modulus in Pa (default 1e6: soft)")
     demo.add_argument("--nu", type=float, default=0.3, help="Poisson ratio (default 0.3)")
     demo.add_argument("--density", type=float, default=1000.0, help="density in kg/m^3 (default 1000)")
@@ -177,7 +245,9 @@ def build_parser() -> argparse.ArgumentParser:
         default=0.0,
         help="clamp nodes within this fraction of the mesh size of that minimum (default 0)",
     )
-    demo.set_defaults(func=_demo)
+
+
+def _add_other_commands(parser: argparse.ArgumentParser, sub: Any) -> argparse.ArgumentParser:
 
     scenes = sub.add_parser(
         "scenes",

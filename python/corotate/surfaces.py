@@ -14,7 +14,7 @@ from .mesh import Mesh
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-__all__ = ["boundary_surface", "loop_subdivide", "split_at_centroids", "sphere_surface"]
+__all__ = ["boundary_surface", "boundary_triangles", "loop_subdivide", "split_at_centroids", "sphere_surface"]
 
 # Faces of each cell type, ordered so that their right-hand normal points out of a
 # positively oriented cell (VTK order); quads are split into two triangles. Hex20 uses its
@@ -25,10 +25,10 @@ _OUTWARD_FACES = {
 }
 
 
-def boundary_surface(mesh: Mesh) -> Mesh:
-    """The boundary of a volume mesh as a triangle Mesh with outward normals: the cell faces
-    no other cell shares, on only the nodes they use (renumbered in their original order).
-    Hexahedra give two triangles per boundary face; hexahedron20 cells use their corners."""
+def boundary_triangles(mesh: Mesh) -> np.ndarray:
+    """(f, 3) indices into the volume mesh's own nodes of its boundary triangles, outward
+    (the faces no other cell shares; two triangles per hexahedron face; hexahedron20 cells
+    use their corners). What a viewer draws over the simulated positions."""
     if mesh.cell_type not in ("tetra", "hexahedron", "hexahedron20"):
         raise ValueError(f"boundary_surface needs a volume mesh, got {mesh.cell_type!r} cells")
     kind = "tetra" if mesh.cell_type == "tetra" else "hexahedron"
@@ -38,6 +38,14 @@ def boundary_surface(mesh: Mesh) -> Mesh:
     outer = faces[np.sort(first[counts == 1])]
     if outer.shape[1] == 4:
         outer = np.concatenate([outer[:, [0, 1, 2]], outer[:, [0, 2, 3]]])
+    return outer
+
+
+def boundary_surface(mesh: Mesh) -> Mesh:
+    """The boundary of a volume mesh as a triangle Mesh with outward normals: the cell faces
+    no other cell shares, on only the nodes they use (renumbered in their original order).
+    Hexahedra give two triangles per boundary face; hexahedron20 cells use their corners."""
+    outer = boundary_triangles(mesh)
     used = np.unique(outer)
     index = np.full(mesh.n_nodes, -1, dtype=np.int64)
     index[used] = np.arange(len(used))
