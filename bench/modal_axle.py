@@ -22,6 +22,7 @@ import numpy as np
 
 import corotate as cr
 from corotate.modal import PartialRotation, craig_bampton, least_squares_rotation
+from corotate.picture import _pyplot
 
 MATERIAL = cr.Material(E=2.1e11, nu=0.3, density=7850.0)
 ARM, WIDTH, STEP, STRIP = 0.8, 1.0, 0.1, 0.02
@@ -108,12 +109,9 @@ def main(argv=None) -> int:
         cells = [f"{1e3 * r[k][0][0][0]:.1f}, {1e3 * r[k][0][0][2]:.1f}, {r[k][0][1]:.2f}" for r in results.values()]
         print(f"| {F / 1e3:.0f} | " + " | ".join(cells) + " |")
     try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot (pip install 'corotate-fem[plot]')")
+        plt = _pyplot()  # the package's matplotlib loader (Agg: files only)
+    except ImportError as err:
+        print(f"no plot: {err}")
         return 0
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -19,6 +19,7 @@ import numpy as np
 import corotate as cr
 from corotate.modal import craig_bampton
 from corotate.modal.partial_rotation import PartialRotation
+from corotate.picture import _pyplot
 
 L, B, H = 10.0, 1.0, 0.5
 MATERIAL = cr.Material(E=1e7, nu=0.0, density=1000.0)
@@ -61,12 +62,9 @@ def main(argv=None) -> int:
             f"{np.interp(z, rotated[:, 1], rotated[:, 0]):8.4f}"
         )
     try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot (pip install 'corotate-fem[plot]')")
+        plt = _pyplot()  # the package's matplotlib loader (Agg: files only)
+    except ImportError as err:
+        print(f"no plot: {err}")
         return 0
     fig, ax = plt.subplots(figsize=(5, 6))
     ax.plot(L + full_path[:, 0], full_path[:, 1], "k-o", ms=3, label="full co-rotational")

@@ -38,6 +38,7 @@ from corotate.modal.geometric_stiffness import (
     scaled_mode_geometric_stiffness,
 )
 from corotate.modal.reduced_stvk import modal_derivatives, reduced_stvk_tensors
+from corotate.picture import _pyplot
 
 LX, LY, T = 1.0, 0.8, 0.008
 MATERIAL = cr.Material(E=2.1e11, nu=0.3, density=7850.0)
@@ -94,28 +95,14 @@ def modal_curve(body: ModalBody, modal_unit_load, levels, mid, load_cases=False)
     return w
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", default="modal-shell", help="output folder (table and PNG)")
-    parser.add_argument("--cells", type=int, nargs=2, default=(20, 16), help="Hex20 cells along x and y (even)")
-    parser.add_argument("--modes", type=int, default=12, help="fixed-boundary normal modes")
-    parser.add_argument("--levels", type=int, default=10, help="load levels up to 7,500 N")
-    args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-
-    mesh, fixed, centre, load = shell(tuple(args.cells))
+def modal_curves(mesh, fixed, centre, load, levels, n_modes):
+    """The modal variants' mid-point deflections per load level (a dict of curves)."""
     mid = centre[1]
-    levels = FORCE * np.arange(1, args.levels + 1) / args.levels
     stvk = cr.Body(mesh, MATERIAL, model="stvk")
     curves = {}
     t0 = time.perf_counter()
-    curves["full linear"], curves["full StVK"] = full_curves(mesh, fixed, centre, load, levels)
-    print(f"full models: {time.perf_counter() - t0:.1f} s ({3 * mesh.n_nodes} DOFs)")
-
-    t0 = time.perf_counter()
-    normal = craig_bampton(stvk, fixed, n_modes=args.modes + 3)
-    cb = craig_bampton(stvk, fixed, n_modes=args.modes, interface_nodes=centre)
+    normal = craig_bampton(stvk, fixed, n_modes=n_modes + 3)
+    cb = craig_bampton(stvk, fixed, n_modes=n_modes, interface_nodes=centre)
     unit = load.ravel()
     curves["modal (normal modes)"] = modal_curve(ModalBody(normal), normal.vectors.T @ unit, levels, mid)
     curves["Craig-Bampton"] = modal_curve(ModalBody(cb), cb.vectors.T @ unit, levels, mid)
@@ -143,11 +130,33 @@ def main(argv=None):
     static[free] = sla.spsolve(K[free][:, free].tocsc(), unit[free])
     shapes = np.column_stack([static, normal.vectors[:, :3]])
     derivs = modal_derivatives(stvk, shapes, cb.fixed_dofs, [(0, 0), (1, 1), (2, 2), (3, 3), (1, 2), (0, 1)])
-    rich = craig_bampton(stvk, fixed, n_modes=args.modes, interface_nodes=centre, extra_vectors=derivs)
+    rich = craig_bampton(stvk, fixed, n_modes=n_modes, interface_nodes=centre, extra_vectors=derivs)
     A, B = reduced_stvk_tensors(stvk, rich)
     poly = ModalBody(rich, quadratic=A, cubic=B)
     curves[f"reduced StVK ({rich.size} vectors)"] = modal_curve(poly, rich.vectors.T @ unit, levels, mid)
     print(f"reduced StVK: {time.perf_counter() - t0:.1f} s (basis {rich.size} vectors)")
+
+    return curves
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", default="modal-shell", help="output folder (table and PNG)")
+    parser.add_argument("--cells", type=int, nargs=2, default=(20, 16), help="Hex20 cells along x and y (even)")
+    parser.add_argument("--modes", type=int, default=12, help="fixed-boundary normal modes")
+    parser.add_argument("--levels", type=int, default=10, help="load levels up to 7,500 N")
+    args = parser.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+
+    mesh, fixed, centre, load = shell(tuple(args.cells))
+    levels = FORCE * np.arange(1, args.levels + 1) / args.levels
+    curves = {}
+    t0 = time.perf_counter()
+    curves["full linear"], curves["full StVK"] = full_curves(mesh, fixed, centre, load, levels)
+    print(f"full models: {time.perf_counter() - t0:.1f} s ({3 * mesh.n_nodes} DOFs)")
+
+    curves.update(modal_curves(mesh, fixed, centre, load, levels, args.modes))
 
     names = list(curves)
     header = "| F [N] | " + " | ".join(names) + " |"
@@ -162,12 +171,9 @@ def main(argv=None):
     print("mid-point deflection [mm]\n" + table)
     (out / "shell.md").write_text(table + "\n")
     try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot (pip install 'corotate-fem[plot]')")
+        plt = _pyplot()  # the package's matplotlib loader (Agg: files only)
+    except ImportError as err:
+        print(f"no plot: {err}")
         return 0
     fig, ax = plt.subplots(figsize=(7, 5))
     for name in names:
