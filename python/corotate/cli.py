@@ -297,7 +297,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args.bench_args = args.bench_args[1:]
     try:
         return args.func(args)
-    except (ValueError, RuntimeError, FileNotFoundError) as err:
+    except (ValueError, RuntimeError, FileNotFoundError, ImportError) as err:  # ImportError: a missing extra
         print(f"corotate {args.command}: error: {err}", file=sys.stderr)
         return 2
 

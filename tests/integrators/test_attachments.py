@@ -222,3 +222,20 @@ def test_the_drag_that_runs_away_through_external_forces_is_silent_through_attac
     sim.step(300)
     assert sim.stats["inverted_steps"] == sim.stats["energy_growth_steps"] == sim.stats["stalled_steps"] == 0
     assert 0.0 < target[2] - sim.positions[grab, 2] < 1e-3
+
+
+def test_fixing_more_nodes_keeps_the_explicit_stability_estimate_releasing_renews_it():
+    # Fixing restricts M^-1 K to fewer DOFs, whose largest eigenvalue can only fall: a grab by
+    # fixing needs no new (Lanczos) estimate. A release can raise it: estimated again.
+    mesh = cr.beam(2.0, 0.5, 0.5, cells=(4, 1, 1))
+    sim = cr.ExplicitSimulation(cr.Body(mesh, MAT), dt=1e-3)
+    clamped = mesh.nodes_on_plane("x", 0.0)
+    sim.fix(clamped)
+    sim.step(2)
+    assert sim.stats["estimates"] == 1
+    sim.fix(np.append(clamped, mesh.nearest_node((2.0, 0.5, 0.5))))
+    sim.step(2)
+    assert sim.stats["estimates"] == 1
+    sim.fix(clamped)
+    sim.step(2)
+    assert sim.stats["estimates"] == 2

@@ -4,6 +4,8 @@ goes back to rest, pacing follows the wall clock; and the boundary the viewer dr
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -137,3 +139,11 @@ def test_an_embedded_render_surface_is_shown_and_moves_with_the_body():
     far = surface.positions[:, 0] > 1.8
     assert scene.sim.displacements[tip, 2] > 0.05
     assert surface.positions[far, 2].mean() - inner.points[far, 2].mean() > 0.03
+
+
+def test_corotate_view_without_the_extra_says_what_to_install(monkeypatch, capsys):
+    from corotate.cli import main
+
+    monkeypatch.setitem(sys.modules, "polyscope", None)  # as if not installed
+    assert main(["view", "--frames", "1", "--cells", "1"]) == 2
+    assert "corotate view needs polyscope: pip install 'corotate-fem[view]'" in capsys.readouterr().err

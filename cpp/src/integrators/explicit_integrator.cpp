@@ -43,11 +43,17 @@ void ExplicitIntegrator::attach(ForceModel& model) {
 
 void ExplicitIntegrator::constraints_changed(const FixedDofs& fixed) {
   const Index n = masses_.size();
+  const Vec before = inv_sqrt_mass_;  // zero on the DOFs fixed until now
   inv_mass_ = masses_.cwiseInverse();
   inv_sqrt_mass_.resize(3 * n);
   for (Index i = 0; i < n; ++i) inv_sqrt_mass_.segment<3>(3 * i).setConstant(std::sqrt(inv_mass_[i]));
   fixed.project(inv_sqrt_mass_);  // fixed DOFs take no part in the eigenproblem
-  estimate_.stale = true;
+  // Fixing more DOFs restricts M^-1 K to fewer of them, and the largest eigenvalue of a
+  // principal submatrix is no larger (Cauchy interlacing): the estimate stays safe, and a
+  // grab by fixing costs no new estimate. Releasing a DOF can raise it: estimate again.
+  bool released = before.size() != inv_sqrt_mass_.size();
+  for (Index d = 0; d < before.size() && !released; ++d) released = before[d] == 0 && inv_sqrt_mass_[d] != 0;
+  if (released) estimate_.stale = true;
 }
 
 void ExplicitIntegrator::save_state() { saved_estimate_ = estimate_; }

@@ -15,9 +15,10 @@
 // (Raise), or taken as given (Allow: for experiments). dt = 0 means "the stable step".
 // dt_crit (critical_time_step.hpp) uses w^2 = lambda_max(M^-1 K) from
 //   - Fixed policy (conservative, the default): for models with a configuration-independent
-//     bound of K (mass-spring: K <= L_k (x) I) that bound, estimated once (again when the
-//     fixed set changes), safe in every configuration; for models without one (hyperelastic
-//     solids) the linearised system of the configuration the estimate first sees, kept.
+//     bound of K (mass-spring: K <= L_k (x) I) that bound, estimated once (again when nodes
+//     are released from the fixed set; fixing more keeps it), safe in every configuration;
+//     for models without one (hyperelastic solids) the linearised system of the
+//     configuration the estimate first sees, kept.
 //   - Online policy: the linearised system at the current positions, re-estimated at the
 //     start of a step whenever some node has moved more than 5 % of the shortest distance
 //     between coupled nodes at rest since the last estimate.
