@@ -610,7 +610,7 @@ def project_nodal_forces(basis: numpy.ndarray, nodes: typing.Annotated[numpy.typ
     """
 def recover_displacements(basis: numpy.ndarray, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64] | None, out: numpy.ndarray) -> None:
     """
-    out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q.
+    out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q; basis (3n, r) C-contiguous float64 or float32.
     """
 def solve_linear(A: BlockSparseMatrix, b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, solver: str = 'pcg', pcg: PCGSettings = ..., geometry: typing.Annotated[numpy.typing.ArrayLike, numpy.float64] | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict]:
     """

@@ -80,6 +80,21 @@ def test_recovery_writes_into_given_arrays(reduced):
         mb.displacements([mesh.n_nodes])
 
 
+def test_single_precision_recovery(reduced, tmp_path):
+    _, _, basis, tip = reduced
+    exact, fast = ModalBody(basis), ModalBody(basis, recovery="float32")
+    q = np.random.default_rng(4).normal(size=basis.size)
+    exact.set_state(q)
+    fast.set_state(q)
+    u, v = exact.displacements(), fast.displacements()
+    assert 0 < np.abs(u - v).max() < 1e-6 * np.abs(u).max()  # float32 rounding of the basis
+    np.testing.assert_array_equal(fast.displacements([tip, 3]), v[[tip, 3]])
+    fast.save(tmp_path / "fast.npz")
+    assert ModalBody.load(tmp_path / "fast.npz").recovery == "float32"
+    with pytest.raises(ValueError, match="recovery"):
+        ModalBody(basis, recovery="half")
+
+
 def test_projection_matches_the_dense_product(reduced):
     mesh, _body, basis, tip = reduced
     mb = ModalBody(basis)

@@ -26,6 +26,22 @@ void recover_displacements(const BasisMap& basis, const Vec& q, const long long*
     for (Index a = 0; a < 3; ++a) out[3 * k + a] = row_dot(3 * nodes[k] + a);
 }
 
+void recover_displacements(const float* basis, Index rows, Index r, const Vec& q, const long long* nodes, Index count,
+                           double* out) {
+  // Single-precision dot products (four lanes per SSE register): the basis is only good to
+  // float precision anyway. q in float lives on the stack for r <= 64 (no allocation).
+  using SmallVecF = Eigen::Matrix<float, Eigen::Dynamic, 1, 0, 64, 1>;
+  if (r > 64) throw InvalidInput("single-precision recovery supports up to 64 basis vectors");
+  const SmallVecF qf = q.cast<float>();
+  auto row_dot = [&](Index row) { return double(Eigen::Map<const Eigen::VectorXf>(basis + row * r, r).dot(qf)); };
+  if (nodes == nullptr) {
+    for (Index i = 0; i < rows; ++i) out[i] = row_dot(i);
+    return;
+  }
+  for (Index k = 0; k < count; ++k)
+    for (Index a = 0; a < 3; ++a) out[3 * k + a] = row_dot(3 * nodes[k] + a);
+}
+
 void project_nodal_forces(const BasisMap& basis, const long long* nodes, Index count, const double* forces,
                           double* out) {
   const Index r = basis.cols();

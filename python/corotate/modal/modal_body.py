@@ -60,6 +60,9 @@ class ModalBody(SettableOnly):
                 (mode-based geometric stiffness, or reduced StVK)
     cubic       optional (r, r, r, r) tensor B[l, k, i, j] = (B_ij)_lk of the cubic term
     mesh        optional Mesh for ParaView output (connectivity only; not needed to step)
+    recovery    "float64" (default, exact) or "float32": recover displacements from a
+                single-precision copy of the basis (half the memory traffic of recovering
+                every node, which is bandwidth-bound; relative error ~1e-7)
 
     State: ``q``, ``modal_velocities``, ``modal_forces`` are (r,) writable views of the
     core's state; ``time`` [s]. Bad input raises ValueError and leaves the state as it was.
@@ -72,6 +75,7 @@ class ModalBody(SettableOnly):
         "modal_forces": "write into the view or use apply_forces(nodes, forces)",
         "time": "it advances with step(); reset() goes back to t = 0",
         "mesh": "pass mesh= when creating the ModalBody",
+        "recovery": "pass recovery= when creating the ModalBody",
     }
 
     def __init__(
@@ -82,13 +86,18 @@ class ModalBody(SettableOnly):
         quadratic: ArrayLike | None = None,
         cubic: ArrayLike | None = None,
         mesh: Mesh | None = None,
+        recovery: str = "float64",
     ) -> None:
         if not isinstance(basis, ModalBasis):
             raise TypeError("basis must be a corotate.modal.ModalBasis (see craig_bampton)")
         if mesh is not None and (not isinstance(mesh, Mesh) or mesh.points.shape != basis.rest_positions.shape):
             raise ValueError("mesh must be a corotate.Mesh with the basis's nodes")
+        if recovery not in ("float64", "float32"):
+            raise ValueError(f"recovery must be 'float64' or 'float32', got {recovery!r}")
         r = basis.size
         alpha, beta = (float(v) for v in rayleigh)
+        self._recovery = recovery
+        self._recovery_vectors = basis.vectors if recovery == "float64" else basis.vectors.astype(np.float32)
         self._basis = basis
         self._mesh = mesh
         self._quadratic = _tensor(quadratic, (r * r, r), "quadratic")
@@ -109,6 +118,11 @@ class ModalBody(SettableOnly):
     @property
     def mesh(self) -> Mesh | None:
         return self._mesh
+
+    @property
+    def recovery(self) -> str:
+        """The recovery precision, "float64" or "float32" (read-only)."""
+        return self._recovery
 
     @property
     def n_modes(self) -> int:
@@ -285,7 +299,7 @@ class ModalBody(SettableOnly):
         count = self.n_nodes if idx is None else idx.size
         if out is None:
             out = np.empty((count, 3))
-        _core.recover_displacements(self._basis.vectors, self._core.q, idx, out)
+        _core.recover_displacements(self._recovery_vectors, self._core.q, idx, out)
         return out
 
     def positions(self, out: np.ndarray | None = None) -> np.ndarray:
@@ -315,6 +329,7 @@ class ModalBody(SettableOnly):
             "interface_nodes": b.interface_nodes,
             "counts": np.array([b.n_normal_modes, b.n_extra]),
             "settings": np.array([self.dt, *self.rayleigh]),
+            "recovery": np.array(self._recovery),
             "quadratic": self._quadratic,
             "cubic": self._cubic,
             "load_cases": self._load_cases,
@@ -345,7 +360,10 @@ class ModalBody(SettableOnly):
             dt, alpha, beta = (float(v) for v in data["settings"])
             quadratic = data["quadratic"] if data["quadratic"].size else None
             cubic = data["cubic"] if data["cubic"].size else None
-            body = cls(basis, dt=dt, rayleigh=(alpha, beta), quadratic=quadratic, cubic=cubic, mesh=mesh)
+            recovery = str(data["recovery"]) if "recovery" in data else "float64"
+            body = cls(
+                basis, dt=dt, rayleigh=(alpha, beta), quadratic=quadratic, cubic=cubic, mesh=mesh, recovery=recovery
+            )
             if data["load_cases"].size:
                 body.set_load_cases(data["load_cases"], data["load_stiffness"])
         return body

@@ -18,6 +18,11 @@ void check_node_indices(const long long* nodes, Index count, Index n_nodes);
 // nullptr means all nodes (count = n).
 void recover_displacements(const BasisMap& basis, const Vec& q, const long long* nodes, Index count, double* out);
 
+// The same from a single-precision copy of the basis (rows x r, row-major): half the memory
+// traffic of the full recovery, which is bandwidth-bound; float products and sums (r <= 64).
+void recover_displacements(const float* basis, Index rows, Index r, const Vec& q, const long long* nodes, Index count,
+                           double* out);
+
 // p = sum over the given nodes of Phi[rows of node]^T forces[node] (forces: (count, 3)).
 // p: r entries, overwritten.
 void project_nodal_forces(const BasisMap& basis, const long long* nodes, Index count, const double* forces, double* p);
