@@ -162,8 +162,8 @@ inline int grab_main(int argc, char** argv) {
     for (const std::string mode : {"attach", "fix", "fix_rebuild"}) {
       const GrabResult r = run_grab(mesh, mode, stiffness, cycles);
       const double normal = median_of(r.normal);
-      const double worst = std::max({*std::max_element(r.grab.begin(), r.grab.end()),
-                                     *std::max_element(r.release.begin(), r.release.end())});
+      const double worst = std::max(
+          {*std::max_element(r.grab.begin(), r.grab.end()), *std::max_element(r.release.begin(), r.release.end())});
       std::printf("%-16s %7ld %-12s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %7.2f %7.2f\n", label.c_str(),
                   static_cast<long>(mesh.cells.rows()), mode.c_str(), normal, median_of(r.grab),
                   *std::max_element(r.grab.begin(), r.grab.end()), median_of(r.drag), median_of(r.release),

@@ -32,7 +32,7 @@ def test_boundary_faces_close_the_volume_outward(element):
 
 
 def test_boundary_faces_refuse_a_sheet():
-    with pytest.raises(ValueError, match="volume meshes"):
+    with pytest.raises(ValueError, match="volume mesh"):
         cr.rectangle((1.0, 1.0), (2, 2)).boundary_faces()
 
 

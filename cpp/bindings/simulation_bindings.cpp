@@ -186,9 +186,8 @@ void bind_simulation(py::module_& m) {
       .def_property("fixed_nodes", &Simulation::fixed_nodes, &Simulation::set_fixed_nodes)
       .def(
           "attach",
-          [](Simulation& s, const std::vector<Index>& nodes, const PointsIn& targets, const Eigen::VectorXd& stiffness) {
-            s.attach(nodes, nodes_from(targets, "targets"), stiffness);
-          },
+          [](Simulation& s, const std::vector<Index>& nodes, const PointsIn& targets,
+             const Eigen::VectorXd& stiffness) { s.attach(nodes, nodes_from(targets, "targets"), stiffness); },
           py::arg("nodes"), py::arg("targets"), py::arg("stiffness"),
           "Attach nodes to targets ((m, 3)) by zero-rest-length springs (stiffness: m values [N/m]).")
       .def(

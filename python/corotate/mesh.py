@@ -244,7 +244,7 @@ class Mesh:
                  A face is on the surface when no other cell shares it.
         """
         if self.cell_type == "triangle":
-            raise ValueError("boundary_faces is for volume meshes; a triangle sheet is its own surface")
+            raise ValueError("boundary faces need a volume mesh, got 'triangle' cells (a sheet is its own surface)")
         local = _TET_FACES if self.cell_type == "tetra" else _HEX_FACES
         faces = self.cells[:, :8][:, local].reshape(-1, local.shape[1])  # outward per cell
         key = np.sort(faces, axis=1)

@@ -16,26 +16,13 @@ if TYPE_CHECKING:
 
 __all__ = ["boundary_surface", "boundary_triangles", "loop_subdivide", "split_at_centroids", "sphere_surface"]
 
-# Faces of each cell type, ordered so that their right-hand normal points out of a
-# positively oriented cell (VTK order); quads are split into two triangles. Hex20 uses its
-# corners (the surface is then the straight-edged one).
-_OUTWARD_FACES = {
-    "tetra": [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
-    "hexahedron": [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]],
-}
-
 
 def boundary_triangles(mesh: Mesh) -> np.ndarray:
     """(f, 3) indices into the volume mesh's own nodes of its boundary triangles, outward
     (the faces no other cell shares; two triangles per hexahedron face; hexahedron20 cells
-    use their corners). What a viewer draws over the simulated positions."""
-    if mesh.cell_type not in ("tetra", "hexahedron", "hexahedron20"):
-        raise ValueError(f"boundary_surface needs a volume mesh, got {mesh.cell_type!r} cells")
-    kind = "tetra" if mesh.cell_type == "tetra" else "hexahedron"
-    faces = np.concatenate([mesh.cells[:, f] for f in _OUTWARD_FACES[kind]])
-    key = np.sort(faces, axis=1)
-    _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
-    outer = faces[np.sort(first[counts == 1])]
+    use their corners). What a viewer draws over the simulated positions. Mesh.boundary_faces
+    finds the faces; each quad becomes two triangles."""
+    outer = mesh.boundary_faces()
     if outer.shape[1] == 4:
         outer = np.concatenate([outer[:, [0, 1, 2]], outer[:, [0, 2, 3]]])
     return outer
