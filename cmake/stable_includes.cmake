@@ -1,9 +1,9 @@
 # pip builds every install in a new temporary environment (/tmp/pip-build-env-XXXX), so the
 # include directories of Eigen and pybind11 move from one `pip install` to the next, and with
-# them every compile command: the persistent build-dir of pyproject.toml would still be
-# rebuilt from scratch by the second command of the README. Copying those headers into the
-# build tree, writing only files whose content changed, keeps the compile commands and the
-# header timestamps, so the objects of the previous install are reused.
+# them every compile command and every header path: no compiled object of the first install
+# could be recognised by the second. Copying those headers into the build tree, writing only
+# files whose content changed, keeps the commands and the header paths stable, so the compiler
+# cache (compiler_cache.cmake) recognises the objects of the previous install.
 
 # Replace the include directories of the imported `target` by copies under the build tree.
 function(corotate_stable_includes target name)
