@@ -99,7 +99,8 @@ class Renderer:
         kwargs = {"smooth_shading": True, "color": "tan"}
         if textured:
             self.poly.active_texture_coordinates = spherical_uv(surface.mesh.points)
-            checker = (np.indices((512, 512)).sum(axis=0) // 32 % 2).astype(np.uint8)
+            i, j = np.indices((512, 512)) // 32
+            checker = ((i + j) % 2).astype(np.uint8)
             image = np.stack([200 * checker + 40, 120 * checker + 60, 60 + 0 * checker], axis=-1).astype(np.uint8)
             kwargs = {"smooth_shading": True, "texture": pv.Texture(image)}
         self.plotter.add_mesh(self.poly, **kwargs)
