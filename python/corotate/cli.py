@@ -140,8 +140,8 @@ def _scenes(args: argparse.Namespace) -> int:
 
         thin_wall(args.out)
     print(
-        "  open the .pvd files in ParaView (the cloth as quads, the cube as hexahedra, the sheet as triangles; "
-        "colour by 'displacement')"
+        "  open the .pvd files in ParaView (the cloth as quads, the cube as hexahedra, the sheet as triangles, "
+        "the thin plates as hexahedron20; colour by 'displacement')"
     )
     return 0
 
