@@ -198,3 +198,23 @@ def test_bad_surfaces_raise_clear_errors_and_leave_the_body_alone():
         core.embed(rest, np.zeros((surface.n_vertices, 3), dtype=np.float32))
     with pytest.raises(ValueError, match="writable C-contiguous float64"):
         core.embed(rest, np.zeros((3, surface.n_vertices)).T)
+
+
+@pytest.mark.parametrize("element", ["hex8", "hex20"])
+def test_vertices_outside_a_hex_cage_get_the_exact_distance_and_follow_linear_fields(element):
+    """A sphere of radius 0.56 around a cube [-0.5, 0.5]^3 of 3^3 hexes pokes out of every
+    face. For an axis-aligned box the element point at the clamped natural coordinates is the
+    nearest point of the cage, so the reported distance is exact: |max(|p| - 0.5, 0)| over
+    the element size 1/3."""
+    cage = cr.box(cells=(3, 3, 3), element=element, origin=(-0.5, -0.5, -0.5))
+    vertices, faces = sphere_surface(0.56, n=500)
+    surface = EmbeddedSurface(cage, vertices, faces)
+    excess = np.linalg.norm(np.maximum(np.abs(vertices) - 0.5, 0), axis=1)
+    assert surface.report["outside"] == int(np.count_nonzero(excess > 0))
+    np.testing.assert_allclose(surface.outside_distances, 3 * excess, rtol=0, atol=1e-12)
+    # The criterion (natural-coordinate excess) is then excess / (half the element size).
+    local_excess = np.maximum(np.abs(surface.local_coordinates) - 1, 0).sum(axis=1)
+    np.testing.assert_allclose(local_excess, 6 * np.maximum(np.abs(vertices) - 0.5, 0).sum(axis=1), atol=1e-12)
+    A = np.array([[1.2, 0.3, 0.0], [-0.2, 0.9, 0.4], [0.1, 0.0, 1.1]])
+    surface.update(cage.points @ A.T)
+    np.testing.assert_allclose(surface.positions, vertices @ A.T, rtol=0, atol=1e-13)
