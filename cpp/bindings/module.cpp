@@ -11,6 +11,7 @@
 #include "corotate/integrators/integrator.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/models/rotation_extraction.hpp"
+#include "corotate/parallel.hpp"
 #include "corotate/simulation.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
@@ -110,6 +111,11 @@ PYBIND11_MODULE(_core, m) {
       "The explicit integrators.");
   m.def("time_step_policy_names", &time_step_policy_names);
   m.def("failure_policy_names", &failure_policy_names);
+  m.def("set_threads", &set_num_threads, py::arg("n"),
+        "Threads of the element sweeps, matrix-vector products and smoother (process-wide; 1 by default).");
+  m.def("threads", &num_threads, "The thread count set by set_threads.");
+  m.def("available_threads", &available_threads, "Threads the hardware offers (1 without OpenMP).");
+  m.def("have_openmp", &have_openmp, "Whether the core was built with OpenMP (else it runs on one thread).");
   m.def("on_unstable_names", &on_unstable_names);
 
   py::class_<Material>(m, "Material")

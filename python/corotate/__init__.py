@@ -29,6 +29,7 @@ from .output import TimeSeriesWriter
 from .simulation import Simulation
 from .solvers import PCG, Direct
 from .surfaces import boundary_surface, loop_subdivide, sphere_surface, split_at_centroids
+from .threads import available_threads, have_openmp, set_threads, threads
 
 __all__ = [
     "Mesh",
@@ -55,5 +56,9 @@ __all__ = [
     "split_at_centroids",
     "sphere_surface",
     "tetrahedralize",
+    "set_threads",
+    "threads",
+    "available_threads",
+    "have_openmp",
 ]
 __version__: str = _core.__version__  # from the VERSION file, through CMake

@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'solve_linear', 'springs_from_mesh', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -549,6 +549,10 @@ class MassSpring(ForceModel):
     @property
     def num_springs(self) -> int:
         ...
+def available_threads() -> int:
+    """
+    Threads the hardware offers (1 without OpenMP).
+    """
 def cell_type_names() -> list[str]:
     """
     Every supported cell type (meshio names).
@@ -584,6 +588,10 @@ def feedback_method_names() -> list[str]:
     """
     Every feedback method name.
     """
+def have_openmp() -> bool:
+    """
+    Whether the core was built with OpenMP (else it runs on one thread).
+    """
 def integrator_names() -> list[str]:
     """
     Every integrator name.
@@ -612,6 +620,10 @@ def recover_displacements(basis: numpy.ndarray, q: typing.Annotated[numpy.typing
     """
     out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q; basis (3n, r) C-contiguous float64 or float32.
     """
+def set_threads(n: typing.SupportsInt | typing.SupportsIndex) -> None:
+    """
+    Threads of the element sweeps, matrix-vector products and smoother (process-wide; 1 by default).
+    """
 def solve_linear(A: BlockSparseMatrix, b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, solver: str = 'pcg', pcg: PCGSettings = ..., geometry: typing.Annotated[numpy.typing.ArrayLike, numpy.float64] | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict]:
     """
     Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node
@@ -619,6 +631,10 @@ def solve_linear(A: BlockSparseMatrix, b: typing.Annotated[numpy.typing.ArrayLik
     """
 def springs_from_mesh(points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], cell_type: str, youngs_modulus: typing.SupportsFloat | typing.SupportsIndex, density: typing.SupportsFloat | typing.SupportsIndex, beta: typing.SupportsFloat | typing.SupportsIndex, diagonals: bool) -> dict:
     ...
+def threads() -> int:
+    """
+    The thread count set by set_threads.
+    """
 def time_step_policy_names() -> list[str]:
     ...
 __version__: str = '0.1.0'

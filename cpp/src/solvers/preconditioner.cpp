@@ -1,5 +1,6 @@
 #include "corotate/solvers/preconditioner.hpp"
 
+#include "corotate/parallel.hpp"
 #include "corotate/solvers/two_level_preconditioner.hpp"
 
 namespace corotate {
@@ -29,8 +30,9 @@ void BlockJacobiPreconditioner::compute(const BlockSparseMatrix& A) {
 }
 
 void BlockJacobiPreconditioner::apply(const Vec& r, Vec& z) {
-  for (size_t i = 0; i < inverse_blocks_.size(); ++i)
-    z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
+  const Index n = static_cast<Index>(inverse_blocks_.size());
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
 }
 
 const std::vector<std::string>& preconditioner_names() {

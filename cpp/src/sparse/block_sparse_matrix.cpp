@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "corotate/parallel.hpp"
+
 namespace corotate {
 
 BlockSparseMatrix BlockSparseMatrix::from_pairs(Index num_nodes, const std::vector<std::pair<int, int>>& pairs) {
@@ -56,6 +58,8 @@ void BlockSparseMatrix::multiply(const Vec& x, Vec& y) const {
   const double* val = values_.data();
   const double* xp = x.data();
   double* yp = y.data();
+  // Rows are independent: each thread writes its own range of y.
+  COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) {
     double y0 = 0, y1 = 0, y2 = 0;
     for (int k = row_start_[i]; k < row_start_[i + 1]; ++k) {

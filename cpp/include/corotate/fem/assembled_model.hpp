@@ -12,6 +12,8 @@
 // symmetric_tangent = false (co-rotated hexes): its N x N blocks are added as they are.
 #pragma once
 
+#include <algorithm>
+#include <exception>
 #include <sstream>
 #include <type_traits>
 #include <vector>
@@ -20,6 +22,7 @@
 #include "corotate/fem/validate_mesh.hpp"
 #include "corotate/materials/psd_projection.hpp"
 #include "corotate/models/force_model.hpp"
+#include "corotate/parallel.hpp"
 
 namespace corotate {
 
@@ -109,6 +112,7 @@ class AssembledModel final : public ForceModel {
         Ke.template block<3, 3>(3 * a, 3 * b) = Ke.template block<3, 3>(3 * b, 3 * a).transpose();
   }
   void evaluate_constant(const Nodes& x, const Request& what, Results& out);
+  void colour_chunks();
 
   Kernel kernel_;
   Nodes rest_;
@@ -119,6 +123,19 @@ class AssembledModel final : public ForceModel {
   std::vector<typename Kernel::Element> elements_;  // empty for constant-stiffness kernels
   std::vector<typename Kernel::Cache> caches_, saved_caches_;
   std::vector<ElementMass<N>> masses_;
+  // The element sweep runs over chunks of kChunk consecutive elements, grouped by colour:
+  // no two chunks of one colour share a node, so a colour's chunks scatter into disjoint
+  // entries and run concurrently (no atomics, no per-thread copies of the matrix). Colours
+  // run in order, chunks' energies are summed in chunk order: the result does not depend on
+  // the thread count.
+  // 512: the natural element order's cache reuse survives within a chunk (chunks of 64 made
+  // the one-thread assembly at 15,360 tets ~40 % slower); a structured beam's chunks then need
+  // two or three colours.
+  static constexpr Index kChunk = 512;
+  std::vector<std::vector<int>> colour_chunks_;  // chunk indices of each colour
+  std::vector<double> chunk_energy_;
+  std::vector<Index> chunk_inverted_;
+  std::vector<std::exception_ptr> chunk_error_;
   BlockSparseMatrix constant_stiffness_;  // K, assembled once, for constant-stiffness kernels
   Vec displacement_, product_;            // work vectors of the constant-stiffness path
 };
@@ -164,7 +181,37 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
     product_.resize(3 * rest.cols());
   } else {
     caches_.resize(m);
+    colour_chunks();
   }
+}
+
+template <class Kernel>
+void AssembledModel<Kernel>::colour_chunks() {
+  // Greedy: each chunk takes the first colour that no chunk sharing one of its nodes has.
+  const Index m = num_elements(), chunks = (m + kChunk - 1) / kChunk;
+  std::vector<std::vector<int>> node_colours(num_nodes());
+  std::vector<Index> taken_by;  // per colour: the last chunk that found it taken
+  for (Index c = 0; c < chunks; ++c) {
+    const Index first = c * kChunk, last = std::min(m, first + kChunk);
+    for (Index e = first; e < last; ++e)
+      for (int a = 0; a < N; ++a)
+        for (int colour : node_colours[cells_(e, a)]) taken_by[colour] = c;
+    int colour = 0;
+    while (colour < static_cast<int>(taken_by.size()) && taken_by[colour] == c) ++colour;
+    if (colour == static_cast<int>(taken_by.size())) {
+      taken_by.push_back(-1);
+      colour_chunks_.emplace_back();
+    }
+    colour_chunks_[colour].push_back(static_cast<int>(c));
+    for (Index e = first; e < last; ++e)
+      for (int a = 0; a < N; ++a) {
+        auto& list = node_colours[cells_(e, a)];
+        if (std::find(list.begin(), list.end(), colour) == list.end()) list.push_back(colour);
+      }
+  }
+  chunk_energy_.assign(chunks, 0.0);
+  chunk_inverted_.assign(chunks, 0);
+  chunk_error_.assign(chunks, nullptr);
 }
 
 template <class Kernel>
@@ -204,12 +251,10 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
     if (kind == StiffnessKind::Geometric && !Kernel::has_geometric_stiffness)
       throw InvalidInput(std::string("the '") + Kernel::name +
                          "' model has no separate geometric stiffness (the hyperelastic models have one)");
-    double energy = 0;
-    Index inverted = 0;
-    NodeMatrix xe, ye, fe;
-    Stiffness Ke;
-    NodeScalars k;
-    for (Index e = 0; e < num_elements(); ++e) {
+    // One element: gather, frame, what was asked, scatter. Touches only the entries of its
+    // own nodes (see colour_chunks).
+    auto element = [&](Index e, NodeMatrix& xe, NodeMatrix& ye, NodeMatrix& fe, Stiffness& Ke, NodeScalars& k,
+                       double& energy, Index& inverted) {
       const auto& el = elements_[e];
       gather(x, e, xe);
       const typename Kernel::Frame frame = kernel_.frame(el, xe, caches_[e]);
@@ -260,6 +305,38 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       if (all_blocks) scatter_all_blocks(e, what.stiffness_scale, Ke, *out.stiffness);
       else if ((kind == StiffnessKind::Model || kind == StiffnessKind::Tangent) && !scattered)
         scatter(e, what.stiffness_scale, Ke, *out.stiffness);
+    };
+    // An exception must not escape a parallel loop (it would terminate the process): each
+    // chunk keeps its own, and the one of the lowest chunk is rethrown after the sweep.
+    const Index m = num_elements();
+    std::fill(chunk_error_.begin(), chunk_error_.end(), nullptr);
+    for (const auto& chunks : colour_chunks_) {
+      const Index count = static_cast<Index>(chunks.size());
+      COROTATE_PARALLEL_FOR(count > 1)
+      for (Index i = 0; i < count; ++i) {
+        const Index c = chunks[i];
+        NodeMatrix xe, ye, fe;
+        Stiffness Ke;
+        NodeScalars k;
+        double energy = 0;
+        Index inverted = 0;
+        try {
+          for (Index e = c * kChunk, last = std::min(m, e + kChunk); e < last; ++e)
+            element(e, xe, ye, fe, Ke, k, energy, inverted);
+        } catch (...) {
+          chunk_error_[c] = std::current_exception();
+        }
+        chunk_energy_[c] = energy;
+        chunk_inverted_[c] = inverted;
+      }
+    }
+    for (const auto& error : chunk_error_)
+      if (error) std::rethrow_exception(error);
+    double energy = 0;
+    Index inverted = 0;
+    for (size_t c = 0; c < chunk_energy_.size(); ++c) {
+      energy += chunk_energy_[c];
+      inverted += chunk_inverted_[c];
     }
     if (what.energy) out.energy = energy;
     if (what.count_inverted) out.inverted = inverted;

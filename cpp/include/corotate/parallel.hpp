@@ -1,0 +1,33 @@
+// The thread count of corotate's parallel loops: element sweeps (coloured chunks),
+// block-sparse matrix-vector products and the block-Jacobi smoother. OpenMP when the build
+// found it (corotate::have_openmp()); without it every loop runs on the calling thread.
+//
+// One process-wide setting, 1 by default: a step's results depend only on the data, never
+// on the thread count or scheduling (each parallel loop writes disjoint entries, and sums
+// are taken per fixed chunk and added in chunk order), so threaded and single-threaded runs
+// agree to the last bit. Eigen's own threading is off (EIGEN_DONT_PARALLELIZE), so this is
+// the only knob.
+#pragma once
+
+namespace corotate {
+
+bool have_openmp();
+// Threads the hardware offers (omp_get_num_procs; 1 without OpenMP).
+int available_threads();
+// Threads the parallel loops use (default 1).
+int num_threads();
+// n >= 1, and 1 in a build without OpenMP (InvalidInput otherwise); more than
+// available_threads() is allowed (oversubscribed).
+void set_num_threads(int n);
+
+}  // namespace corotate
+
+// COROTATE_PARALLEL_FOR(cond): the next for loop runs on num_threads() threads, statically
+// scheduled, when cond holds (small loops stay serial: a fork costs microseconds).
+#ifdef _OPENMP
+#define COROTATE_PRAGMA(x) _Pragma(#x)
+#define COROTATE_PARALLEL_FOR(cond) \
+  COROTATE_PRAGMA(omp parallel for schedule(static) num_threads(::corotate::num_threads()) if ((cond) && ::corotate::num_threads() > 1))
+#else
+#define COROTATE_PARALLEL_FOR(cond)
+#endif

@@ -1,0 +1,39 @@
+"""The thread count of the C++ core's parallel loops (process-wide, 1 by default).
+
+The element sweep of a step (rotations, forces, stiffness assembly), the matrix-vector
+products and the block-Jacobi smoother of PCG run on this many threads when the core was
+built with OpenMP (``have_openmp()``). Results do not depend on it: a run on two threads
+repeats a one-thread run to the last bit (bench/README.md has the speed-ups).
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import corotate._core as _core
+
+
+def set_threads(n: int) -> None:
+    """Run the core's parallel loops on ``n`` threads (an integer >= 1; more than
+    ``available_threads()`` is allowed but oversubscribes). Takes effect at the next step.
+
+    Raises ``TypeError`` for a non-integer and ``ValueError`` for n < 1, or n > 1 in a build
+    without OpenMP."""
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral):
+        raise TypeError(f"the thread count must be an integer, got {n!r}")
+    _core.set_threads(int(n))
+
+
+def threads() -> int:
+    """The thread count set by ``set_threads`` (1 by default)."""
+    return int(_core.threads())
+
+
+def available_threads() -> int:
+    """Threads the hardware offers (1 in a build without OpenMP)."""
+    return int(_core.available_threads())
+
+
+def have_openmp() -> bool:
+    """Whether the core was built with OpenMP; without it everything runs on one thread."""
+    return bool(_core.have_openmp())
