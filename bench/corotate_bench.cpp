@@ -41,6 +41,7 @@ struct Options {
   double dt = 0.01;
   bool lumped = false;
   bool checks = true;  // the loud-failure checks (simulation.hpp); --no-checks: failure policy Ignore
+  SparseCholesky::Backend direct = SparseCholesky::Backend::Auto;  // --direct eigen|cholmod
   bool reference = true;  // --no-reference: skip the converged run (timing only; dev is not printed)
   bool trace = false;  // --trace: one line per step (tip, energy, residual, checks) after each run
   std::vector<std::string> configs = {"paper", "default"};
@@ -87,7 +88,7 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
   RunResult r;
   const auto t0 = clock_type::now();
   std::unique_ptr<LinearSolver> solver;
-  if (config.solver == "direct") solver = std::make_unique<DirectSolver>();
+  if (config.solver == "direct") solver = std::make_unique<DirectSolver>(opt.direct);
   else solver = std::make_unique<PCG>(config.pcg);
   Material material{1e7, 0.3, 1000.0};
   IntegratorSettings settings;  // linearised implicit Euler
@@ -174,6 +175,8 @@ void usage() {
       "  --lumped            lumped instead of consistent mass\n"
       "  --no-checks         skip the loud-failure checks (failure policy ignore; default: warn)\n"
       "  --threads N         threads of the element sweep, SpMV and smoother (default 1; OpenMP)\n"
+      "  --direct B          the 'direct' configuration's Cholesky: eigen or cholmod (default: cholmod when\n"
+      "                      built with SuiteSparse; the two-level coarse solve always uses the default)\n"
       "  --no-reference      skip the converged reference run (timings only; dev[%] prints nan)\n"
       "  --trace             print one line per step of every run: tip, total energy, iterations,\n"
       "                      relative residual, and the loud-failure flags (energy: elastic energy at\n"
@@ -233,7 +236,11 @@ int main(int argc, char** argv) {
       else if (arg == "--no-checks") opt.checks = false;
       else if (arg == "--trace") opt.trace = true;
       else if (arg == "--no-reference") opt.reference = false;
-      else if (arg == "--threads") set_num_threads(std::stoi(value()));
+      else if (arg == "--direct") {
+        const std::string name = value();
+        if (name != "eigen" && name != "cholmod") throw InvalidInput("--direct takes eigen or cholmod");
+        opt.direct = name == "eigen" ? SparseCholesky::Backend::Eigen : SparseCholesky::Backend::Cholmod;
+      } else if (arg == "--threads") set_num_threads(std::stoi(value()));
       else if (arg == "--preconditioner") opt.custom.preconditioner = preconditioner_kind_from_name(value());
       else if (arg == "--tolerance") opt.custom.tolerance = std::stod(value());
       else if (arg == "--cap") opt.custom.max_iterations = std::stoi(value());
@@ -254,6 +261,8 @@ int main(int argc, char** argv) {
         "scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
         opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent", opt.checks ? "loud-failure checks" : "no checks",
         num_threads());
+    std::printf("direct solver (config 'direct'): %s; two-level coarse solver: %s\n",
+                DirectSolver(opt.direct).backend_name(), DirectSolver().backend_name());
     std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s %s\n", "mesh", "tets", "config", "precmp_ms",
                 "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]",
                 "stalled/growth");

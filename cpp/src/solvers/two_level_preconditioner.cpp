@@ -129,8 +129,8 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   prolongation_.prune(0.0);
   restriction_ = prolongation_.transpose();
   coarse_ = Eigen::SparseMatrix<double, Eigen::ColMajor, int>(restriction_ * (A * prolongation_));
-  coarse_factor_.compute(coarse_);
-  if (coarse_factor_.info() != Eigen::Success)
+  coarse_factor_.analyze(coarse_);
+  if (!coarse_factor_.factorize(coarse_))
     throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
   residual_.resize(dofs);
   correction_.resize(dofs);
@@ -156,7 +156,7 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   A_->multiply(z, residual_);
   residual_ = r - residual_;
   coarse_rhs_.noalias() = restriction_ * residual_;
-  coarse_solution_ = coarse_factor_.solve(coarse_rhs_);
+  coarse_factor_.solve(coarse_rhs_, coarse_solution_);
   z.noalias() += prolongation_ * coarse_solution_;
   A_->multiply(z, residual_);
   residual_ = r - residual_;

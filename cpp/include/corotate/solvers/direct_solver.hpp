@@ -1,23 +1,23 @@
-// Sparse direct solve by Eigen's SimplicialLDLT (AMD ordering). The symbolic analysis is
-// done once per pattern and reused; each solve factorizes numerically.
+// Sparse direct solve by Cholesky factorization (sparse_cholesky.hpp: SuiteSparse CHOLMOD
+// when the build found it, else Eigen's SimplicialLDLT). The symbolic analysis is done once
+// per pattern and reused; each solve factorizes numerically.
 #pragma once
 
-#include <Eigen/SparseCholesky>
-
 #include "corotate/solvers/linear_solver.hpp"
+#include "corotate/solvers/sparse_cholesky.hpp"
 
 namespace corotate {
 
 class DirectSolver final : public LinearSolver {
  public:
+  explicit DirectSolver(SparseCholesky::Backend backend = SparseCholesky::Backend::Auto) : cholesky_(backend) {}
   void reset() override { analysed_ = false; }
-  // Projection keeps the pattern, and every solve factorizes numerically: nothing to forget.
-  void constraints_changed(const FixedDofs&) override {}
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
+  const char* backend_name() const { return cholesky_.backend_name(); }
 
  private:
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> scalar_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>> ldlt_;
+  SparseCholesky::Matrix scalar_;
+  SparseCholesky cholesky_;
   Vec residual_;
   bool analysed_ = false;
 };

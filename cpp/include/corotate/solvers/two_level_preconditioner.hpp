@@ -11,10 +11,11 @@
 // worse; an application costs three matrix-vector products' worth of work.
 #pragma once
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <vector>
 
 #include "corotate/solvers/preconditioner.hpp"
+#include "corotate/solvers/sparse_cholesky.hpp"
 
 namespace corotate {
 
@@ -41,7 +42,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   BlockJacobiPreconditioner diagonal_;
   SparseMatrix prolongation_, restriction_;  // P (3n x 6m) and P^T
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> coarse_;
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>> coarse_factor_;
+  SparseCholesky coarse_factor_;  // CHOLMOD when built with it
   Vec residual_, coarse_rhs_, coarse_solution_, correction_;
   double smoothing_weight_ = 0.0;  // 4 / (3 lambda_max(D^-1 A0)): the smoother contracts
 };

@@ -1,0 +1,43 @@
+// The direct solver's two backends, SuiteSparse CHOLMOD (when the build found it) and Eigen's
+// SimplicialLDLT, solve the same systems to round-off, and both refuse an indefinite one.
+#include <cstdio>
+
+#include "corotate/solvers/direct_solver.hpp"
+#include "corotate/solvers/pcg.hpp"
+#include "fixtures.hpp"
+#include "test_driver.hpp"
+
+using namespace corotate;
+
+TEST(cholmod_and_eigen_direct_solves_agree) {
+  if (!SparseCholesky::have_cholmod()) {
+    std::puts("  skipped: corotate was built without SuiteSparse CHOLMOD (apt-get install libsuitesparse-dev)");
+    CHECK_THROWS(SparseCholesky(SparseCholesky::Backend::Cholmod), InvalidInput);
+    CHECK(std::string(DirectSolver().backend_name()) == "eigen");
+    return;
+  }
+  CHECK(std::string(DirectSolver().backend_name()) == "cholmod");
+  // A = M + dt^2 K of a 6 x 3 x 3 tet beam (no fixed nodes: M makes it definite).
+  const auto system = fixtures::implicit_system(fixtures::tet_beam(6, 3, 3), Material{1e6, 0.3, 1000.0}, 1e-2);
+  const Index n = system.A.num_dofs();
+  Vec b(n);
+  for (Index i = 0; i < n; ++i) b[i] = fixtures::uniform();
+  DirectSolver cholmod(SparseCholesky::Backend::Cholmod), eigen(SparseCholesky::Backend::Eigen);
+  CHECK(std::string(cholmod.backend_name()) == "cholmod" && std::string(eigen.backend_name()) == "eigen");
+  Vec x_cholmod, x_eigen;
+  for (int round = 0; round < 2; ++round) {  // the second reuses the symbolic analysis
+    const SolveStats s1 = cholmod.solve(system.A, b, x_cholmod);
+    const SolveStats s2 = eigen.solve(system.A, b, x_eigen);
+    CHECK(s1.relative_residual < 1e-13 && s2.relative_residual < 1e-13);
+    CHECK((x_cholmod - x_eigen).norm() <= 1e-12 * x_eigen.norm());
+    // and against the dense solve of the same matrix
+    const Vec dense = system.dense.ldlt().solve(b);
+    CHECK((x_cholmod - dense).norm() <= 1e-12 * dense.norm());
+    b *= -2.0;
+  }
+  // An indefinite matrix: both refuse it.
+  BlockSparseMatrix indefinite = system.A;
+  indefinite.block(indefinite.diagonal_block(3))(0, 0) = -1e9;
+  CHECK_THROWS(cholmod.solve(indefinite, b, x_cholmod), NotPositiveDefinite);
+  CHECK_THROWS(eigen.solve(indefinite, b, x_eigen), NotPositiveDefinite);
+}
