@@ -1,5 +1,5 @@
 // The standard benchmark scenario (bench/README.md): a 5 x 1 x 1 m beam along x, clamped at
-// x = 0, sagging under gravity from rest; and a TetGen reader for user meshes.
+// x = 0, sagging under gravity from rest (tets or Hex8); and a TetGen reader for user meshes.
 #pragma once
 
 #include <array>
@@ -47,6 +47,23 @@ inline TetMesh structured_tet_beam(int nx, int ny, int nz, double lx, double ly,
           for (int a = 0; a < 4; ++a) m.cells(e, a) = tet[a];
           ++e;
         }
+  return m;
+}
+
+// The same beam of nx x ny x nz cubes as Hex8 elements (VTK "hexahedron" node order: the
+// face at the cube's low z counter-clockwise seen from +z, then the face above it).
+inline TetMesh structured_hex_beam(int nx, int ny, int nz, double lx, double ly, double lz) {
+  TetMesh m = structured_tet_beam(nx, ny, nz, lx, ly, lz);  // the same nodes
+  auto id = [&](int i, int j, int k) { return (i * (ny + 1) + j) * (nz + 1) + k; };
+  m.cells.resize(nx * ny * nz, 8);
+  int e = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int k = 0; k < nz; ++k, ++e) {
+        const int corner[8] = {id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
+                               id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+        for (int a = 0; a < 8; ++a) m.cells(e, a) = corner[a];
+      }
   return m;
 }
 

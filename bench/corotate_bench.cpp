@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <string>
 #include <vector>
 
@@ -40,6 +43,7 @@ struct Options {
   int steps = 100;
   double dt = 0.01;
   bool lumped = false;
+  bool hex = false;  // --element hex8: the beam of Hex8 elements instead of tets
   bool checks = true;  // the loud-failure checks (simulation.hpp); --no-checks: failure policy Ignore
   SparseCholesky::Backend direct = SparseCholesky::Backend::Auto;  // --direct eigen|cholmod
   bool reference = true;  // --no-reference: skip the converged run (timing only; dev is not printed)
@@ -53,7 +57,18 @@ struct RunResult {
   double iterations = 0, real_time_ratio = 0, tip_z = 0;
   int max_iterations = 0;
   long long stalled_steps = 0, energy_growth_steps = 0;  // loud failures the checks counted
+  double bytes_per_element = 0;  // heap of the simulation after its first step, per element
 };
+
+// Bytes the heap holds now (glibc; 0 elsewhere): the memory a simulation owns is the change.
+long heap_bytes() {
+#ifdef __GLIBC__
+  const struct mallinfo2 info = mallinfo2();
+  return static_cast<long>(info.uordblks + info.hblkhd);
+#else
+  return 0;
+#endif
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -94,7 +109,10 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
   IntegratorSettings settings;  // linearised implicit Euler
   settings.time_step = opt.dt;
   settings.lumped_mass = opt.lumped;
-  Simulation sim(make_model("corotational", "tetra", mesh.points, mesh.cells, material), settings, std::move(solver));
+  const long heap_before = heap_bytes();
+  Simulation sim(
+      make_model("corotational", mesh.cells.cols() == 8 ? "hexahedron" : "tetra", mesh.points, mesh.cells, material),
+      settings, std::move(solver));
   if (!opt.checks) sim.set_failure_policy(FailurePolicy::Ignore);
   const double x_min = mesh.points.row(0).minCoeff(), x_max = mesh.points.row(0).maxCoeff();
   std::vector<Index> fixed, tip;
@@ -131,7 +149,10 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
     if (opt.trace)
       std::printf("# %4d %10.5f %12.5g %4d %10.3g %d %d\n", s, start_tip, st.start_energy + start_kinetic_minus_work,
                   st.solve.iterations, st.solve.relative_residual, int(st.solver_stalled), int(st.energy_growth));
-    if (s == 0) r.first_step_ms = st.total_ms;  // includes a preconditioner factorization
+    if (s == 0) {
+      r.first_step_ms = st.total_ms;  // includes a preconditioner factorization
+      r.bytes_per_element = double(heap_bytes() - heap_before) / mesh.cells.rows();
+    }
     total.push_back(st.total_ms);
     asm_.push_back(st.assembly_ms);
     sol.push_back(st.solve_ms);
@@ -173,6 +194,7 @@ void usage() {
       "  --steps N           steps per run (default 100)\n"
       "  --dt SECONDS        time step (default 0.01)\n"
       "  --lumped            lumped instead of consistent mass\n"
+      "  --element E         tet4 (default: 6 tets per cube) or hex8 (one Hex8 per cube) beams\n"
       "  --no-checks         skip the loud-failure checks (failure policy ignore; default: warn)\n"
       "  --threads N         threads of the element sweep, SpMV and smoother (default 1; OpenMP)\n"
       "  --direct B          the 'direct' configuration's Cholesky: eigen or cholmod (default: cholmod when\n"
@@ -233,7 +255,11 @@ int main(int argc, char** argv) {
       else if (arg == "--steps") opt.steps = std::stoi(value());
       else if (arg == "--dt") opt.dt = std::stod(value());
       else if (arg == "--lumped") opt.lumped = true;
-      else if (arg == "--no-checks") opt.checks = false;
+      else if (arg == "--element") {
+        const std::string name = value();
+        if (name != "tet4" && name != "hex8") throw InvalidInput("--element takes tet4 or hex8");
+        opt.hex = name == "hex8";
+      } else if (arg == "--no-checks") opt.checks = false;
       else if (arg == "--trace") opt.trace = true;
       else if (arg == "--no-reference") opt.reference = false;
       else if (arg == "--direct") {
@@ -255,26 +281,28 @@ int main(int argc, char** argv) {
       for (int s : opt.sizes)
         meshes.emplace_back(
             "beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),
-            bench::structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
+            opt.hex ? bench::structured_hex_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0)
+                    : bench::structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
 
     std::printf(
-        "scenario: corotational tets, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
-        opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent", opt.checks ? "loud-failure checks" : "no checks",
-        num_threads());
+        "scenario: corotational %s, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
+        opt.hex ? "Hex8" : "tets", opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
+        opt.checks ? "loud-failure checks" : "no checks", num_threads());
     std::printf("direct solver (config 'direct'): %s; two-level coarse solver: %s\n",
                 DirectSolver(opt.direct).backend_name(), DirectSolver().backend_name());
-    std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s %s\n", "mesh", "tets", "config", "precmp_ms",
+    std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s %s\n", "mesh", "elems", "config", "precmp_ms",
                 "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]",
-                "stalled/growth");
+                "stalled/growth  B/elem");
     for (const auto& [label, mesh] : meshes) {
       RunResult ref;
       ref.tip_z = std::nan("");
       if (opt.reference) ref = run(mesh, config_by_name("reference", opt), opt);
       auto print = [&](const std::string& name, const RunResult& r) {
-        std::printf("%-16s %7ld %-16s %9.1f %9.1f %8.3f %7.3f %7.3f %7.2f %6d %8.2f %10.5f %8.3f %lld/%lld\n",
+        std::printf("%-16s %7ld %-16s %9.1f %9.1f %8.3f %7.3f %7.3f %7.2f %6d %8.2f %10.5f %8.3f %lld/%lld %7.0f\n",
                     label.c_str(), static_cast<long>(mesh.cells.rows()), name.c_str(), r.precompute_ms, r.first_step_ms,
                     r.median_ms, r.assembly_ms, r.solve_ms, r.iterations, r.max_iterations, r.real_time_ratio, r.tip_z,
-                    100.0 * (r.tip_z - ref.tip_z) / ref.tip_z, r.stalled_steps, r.energy_growth_steps);
+                    100.0 * (r.tip_z - ref.tip_z) / ref.tip_z, r.stalled_steps, r.energy_growth_steps,
+                    r.bytes_per_element);
         std::fflush(stdout);
       };
       if (opt.reference) print("reference", ref);
