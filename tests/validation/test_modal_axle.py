@@ -7,20 +7,13 @@ whole hardly at all); rotating each arm as a domain recovers the motion.
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-BENCH = Path(__file__).resolve().parents[2] / "bench" / "modal_axle.py"
-
 
 @pytest.fixture(scope="module")
-def axle():
-    spec = importlib.util.spec_from_file_location("modal_axle", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+def axle(load_bench):
+    module = load_bench("modal_axle")
     return module.run([18e3, 24e3])
 
 

@@ -5,20 +5,13 @@ nodes, loads 3,750 and 7,500 N. (The bench's default 20 x 16 mesh is in the READ
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-BENCH = Path(__file__).resolve().parents[2] / "bench" / "modal_shell.py"
-
 
 @pytest.fixture(scope="module")
-def curves():
-    spec = importlib.util.spec_from_file_location("modal_shell", BENCH)
-    shell = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(shell)
+def curves(load_bench):
+    shell = load_bench("modal_shell")
     mesh, fixed, centre, load = shell.shell((10, 8))
     levels = np.array([3750.0, 7500.0])
     out = dict(zip(("full linear", "full StVK"), shell.full_curves(mesh, fixed, centre, load, levels)))
