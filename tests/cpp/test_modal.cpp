@@ -32,23 +32,31 @@ ModalForces random_polynomial_forces() {
   return ModalForces(K, A, B);
 }
 
-}  // namespace
-
-TEST(modal_tangent_is_the_derivative_of_the_forces) {
-  ModalForces forces = random_polynomial_forces();
-  const Vec q = fixtures::random_matrix<Vec>(r, 1);
-  Vec f, fp, fm;
-  Mat T;
-  forces.evaluate(q, f, &T);
-  const double h = 1e-5;
+// The tangent -df/dq at q by central differences of step h.
+Mat central_difference_tangent(ModalForces& forces, const Vec& q, double h) {
+  Mat T(r, r);
+  Vec fp, fm;
   for (Index j = 0; j < r; ++j) {
     Vec dq = Vec::Zero(r);
     dq[j] = h;
     forces.evaluate(q + dq, fp, nullptr);
     forces.evaluate(q - dq, fm, nullptr);
-    const Vec column = -(fp - fm) / (2 * h);
-    CHECK_NEAR((column - T.col(j)).norm() / T.col(j).norm(), 0.0, 1e-8);
+    T.col(j) = -(fp - fm) / (2 * h);
   }
+  return T;
+}
+
+}  // namespace
+
+TEST(modal_tangent_is_the_derivative_of_the_forces) {
+  ModalForces forces = random_polynomial_forces();
+  const Vec q = fixtures::random_matrix<Vec>(r, 1);
+  Vec f;
+  Mat T;
+  forces.evaluate(q, f, &T);
+  const double h = 1e-5;
+  const Mat fd = central_difference_tangent(forces, q, h);
+  for (Index j = 0; j < r; ++j) CHECK_NEAR((fd.col(j) - T.col(j)).norm() / T.col(j).norm(), 0.0, 1e-8);
   // ... and the forces are the gradient of the energy (fully symmetric tensors).
   for (Index j = 0; j < r; ++j) {
     Vec dq = Vec::Zero(r);
@@ -64,20 +72,14 @@ TEST(modal_tangent_holds_for_unsymmetric_quadratic_tensors) {
   const Mat A = fixtures::random_matrix<Mat>(r * r, r);
   ModalForces forces(Mat::Identity(r, r), A, Mat());
   const Vec q = fixtures::random_matrix<Vec>(r, 1);
-  Vec f, fp, fm;
+  Vec f;
   Mat T;
   forces.evaluate(q, f, &T);
   Vec expected = -q;
   for (Index i = 0; i < r; ++i) expected -= 0.5 * q[i] * Eigen::Map<const Mat>(A.col(i).data(), r, r) * q;
   CHECK_NEAR((f - expected).norm(), 0.0, 1e-12 * expected.norm());
-  const double h = 1e-6;
-  for (Index j = 0; j < r; ++j) {
-    Vec dq = Vec::Zero(r);
-    dq[j] = h;
-    forces.evaluate(q + dq, fp, nullptr);
-    forces.evaluate(q - dq, fm, nullptr);
-    CHECK_NEAR((-(fp - fm) / (2 * h) - T.col(j)).norm(), 0.0, 1e-7 * T.norm());
-  }
+  const Mat fd = central_difference_tangent(forces, q, 1e-6);
+  for (Index j = 0; j < r; ++j) CHECK_NEAR((fd.col(j) - T.col(j)).norm(), 0.0, 1e-7 * T.norm());
 }
 
 TEST(modal_step_is_backward_euler_of_each_mode) {
