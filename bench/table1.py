@@ -27,7 +27,8 @@ rows (d) and (e) are skipped.
     python bench/table1.py --data ../shared/data/armadillo_4k.vtu --out table1-out
     taskset -c 1 python bench/table1.py --scales 1,10,100 --frames 100,20,5
 
-Prints the table, writes OUT/table1.md, OUT/table1.json and OUT/table1.png (ratio and F/s
+Prints the table, writes OUT/table1.md, OUT/table1.json, OUT/table1_render.png (what rows (d)
+and (e) draw, at t = 1.5 s and 3 s, of the first scale) and OUT/table1.png (ratio and F/s
 next to the paper's E8500 column).
 """
 
@@ -132,23 +133,61 @@ def make_solver(solver: str) -> cr.PCG | cr.Direct:
     return cr.Direct() if solver == "direct" else cr.PCG(tolerance=1e-6, max_iterations=500)
 
 
+def scene(cage: cr.Mesh, render: cr.Mesh) -> tuple[cr.Body, np.ndarray, cr.EmbeddedSurface]:
+    """The hanging armadillo: its body, the fixed nodes and the embedded render surface."""
+    body = cr.Body(cage, cr.Material(E=1e6, nu=0.33, density=1000.0))
+    fixed = cage.nodes_where(lambda p: np.linalg.norm(p - ANCHOR, axis=1) < 0.04)
+    if len(fixed) < 3:
+        fixed = np.argsort(np.linalg.norm(cage.points - ANCHOR, axis=1))[:3]
+    return body, fixed, cr.EmbeddedSurface(body, render.points, render.cells, max_outside_distance=1.0)
+
+
+def at_rest(body: cr.Body, fixed: np.ndarray, solver: str) -> cr.Simulation:
+    sim = cr.Simulation(body, dt=0.01, gravity=(0, -9.81, 0), solver=make_solver(solver))
+    sim.fix(fixed)
+    return sim
+
+
+def render_frames(cage: cr.Mesh, render: cr.Mesh, solver: str, out: Path) -> Path | None:
+    """OUT/table1_render.png: what rows (d) and (e) draw, at t = 1.5 s and 3 s."""
+    from corotate.scenes import pyplot
+
+    plt = pyplot()
+    if plt is None:
+        return None
+    body, fixed, surface = scene(cage, render)
+    sim = at_rest(body, fixed, solver)
+    renderers = {m: Renderer(surface, textured=m == "e") for m in "de"}
+    fig, axes = plt.subplots(2, 2, figsize=(9, 7))
+    for row, t_end in enumerate((1.5, 3.0)):
+        while sim.time < t_end - 1e-9:
+            sim.step(5)
+        surface.update(sim, normals="area")
+        for col, mode in enumerate("de"):
+            axes[row, col].imshow(renderers[mode].draw())
+            axes[row, col].set_title(f"({mode}) {ROWS[mode]}, t = {sim.time:.1f} s", fontsize=9)
+            axes[row, col].axis("off")
+    for renderer in renderers.values():
+        renderer.close()
+    path = out / "table1_render.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path
+
+
 def run(
     cage: cr.Mesh, render: cr.Mesh, frames: int, modes: list[str], solver: str, repeats: int
 ) -> dict[str, dict[str, float]]:
     """Times `frames` frames of each mode, `repeats` times with the modes interleaved (the
     machine is shared: a slow spell then hits every mode alike); the median wall time counts."""
-    body = cr.Body(cage, cr.Material(E=1e6, nu=0.33, density=1000.0))
-    fixed = cage.nodes_where(lambda p: np.linalg.norm(p - ANCHOR, axis=1) < 0.04)
-    if len(fixed) < 3:
-        fixed = np.argsort(np.linalg.norm(cage.points - ANCHOR, axis=1))[:3]
-    surface = cr.EmbeddedSurface(body, render.points, render.cells, max_outside_distance=1.0)
+    body, fixed, surface = scene(cage, render)
     results: dict[str, dict[str, float]] = {"_report": dict(surface.report, fixed=len(fixed))}
     renderers = {m: Renderer(surface, textured=m == "e") for m in modes if m in "de"}
     walls: dict[str, list[float]] = {m: [] for m in modes}
     for _ in range(repeats):
         for mode in modes:
-            sim = cr.Simulation(body, dt=0.01, gravity=(0, -9.81, 0), solver=make_solver(solver))
-            sim.fix(fixed)
+            sim = at_rest(body, fixed, solver)
             renderer = renderers.get(mode)
             frame(sim, surface, mode, renderer)  # warm-up (first factorization, GL buffers): not timed
             t0 = time.perf_counter()
@@ -232,6 +271,10 @@ def main() -> int:
         )
         table[name] = run(cage, render, n_frames, modes, solver, args.repeats)
         print(f"    surface: {table[name]['_report']}")
+        if scale == scales[0] and "d" in modes and "e" in modes:
+            frames_png = render_frames(cage, render, solver, out)
+            if frames_png:
+                print(f"wrote {frames_png}")
     lines = ["| row | paper (E8500) | ratio | F/s | " + " | ".join(f"{n}: ratio | F/s" for n in table) + " |"]
     lines.append("| --- " * (4 + 2 * len(table)) + "|")
     for r in ROWS:
