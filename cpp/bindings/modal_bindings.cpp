@@ -98,8 +98,9 @@ void bind_modal(py::module_& m) {
 
   m.def(
       "recover_displacements",
-      [](const py::array& basis, const Vec& q, const std::optional<NodeArray>& nodes, py::array& out) {
-        // float64 basis: the exact recovery; float32: a half-size copy for speed.
+      [](const py::array& basis, const VecRef& q, const std::optional<NodeArray>& nodes, py::array& out) {
+        // float64 basis: the exact recovery; float32: a half-size copy for speed. q by reference
+        // (ModalBody passes the core's own contiguous q): a frame allocates nothing.
         const bool single = py::isinstance<py::array_t<float, py::array::c_style>>(basis) && basis.ndim() == 2 &&
                             (basis.flags() & py::array::c_style) && basis.shape(0) % 3 == 0 && basis.shape(1) > 0;
         const BasisMap B = single ? BasisMap(nullptr, basis.shape(0), basis.shape(1)) : basis_map(basis);

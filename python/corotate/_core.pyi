@@ -616,7 +616,7 @@ def project_nodal_forces(basis: numpy.ndarray, nodes: typing.Annotated[numpy.typ
     """
     p = sum over nodes of basis[rows of node]^T forces[k] (only the loaded nodes' rows are read).
     """
-def recover_displacements(basis: numpy.ndarray, q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64] | None, out: numpy.ndarray) -> None:
+def recover_displacements(basis: numpy.ndarray, q: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64] | None, out: numpy.ndarray) -> None:
     """
     out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q; basis (3n, r) C-contiguous float64 or float32.
     """
