@@ -5,13 +5,16 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "conversions.hpp"
 #include "corotate/modal/modal_basis.hpp"
 #include "corotate/modal/modal_integrator.hpp"
+#include "corotate/modal/partial_rotation.hpp"
 
 namespace py = pybind11;
 using namespace corotate;
@@ -49,6 +52,12 @@ double* writable_nodes_buffer(py::array& out, Index count, const char* what) {
     throw InvalidInput(std::string(what) + " must be a writable C-contiguous float64 array of shape (" +
                        std::to_string(count) + ", 3)");
   return static_cast<double*>(out.mutable_data());
+}
+
+Index checked_domain(const PartialRotation& s, Index d) {
+  if (d < 0 || d >= s.n_domains())
+    throw InvalidInput("domain " + std::to_string(d) + " is out of range [0, " + std::to_string(s.n_domains()) + ")");
+  return d;
 }
 
 }  // namespace
@@ -96,28 +105,87 @@ void bind_modal(py::module_& m) {
           "energy", [](ModalIntegrator& s, const Vec& q) { return s.forces().energy(q); }, py::arg("q"))
       .def_property_readonly("stiffness", [](ModalIntegrator& s) { return Eigen::MatrixXd(s.forces().stiffness()); });
 
+  py::class_<PartialRotation>(m, "PartialRotation")
+      .def(py::init([](const PointsIn& rest, const std::vector<std::vector<long long>>& representative,
+                       const NodeArray& blended_nodes, const DoubleArray& weights) {
+             if (rest.ndim() != 2 || rest.shape(1) != 3) throw InvalidInput("rest positions must have shape (n, 3)");
+             if (weights.ndim() != 2 || weights.shape(0) != blended_nodes.size() ||
+                 weights.shape(1) != py::ssize_t(representative.size()))
+               throw InvalidInput("weights must have shape (len(blended_nodes), number of domains)");
+             return PartialRotation(
+                 rest.data(), rest.shape(0), representative,
+                 std::vector<long long>(blended_nodes.data(), blended_nodes.data() + blended_nodes.size()),
+                 weights.data());
+           }),
+           py::arg("rest"), py::arg("representative"), py::arg("blended_nodes"), py::arg("weights"))
+      .def_property_readonly("n_nodes", &PartialRotation::n_nodes)
+      .def_property_readonly("n_domains", &PartialRotation::n_domains)
+      .def_property_readonly("representative_nodes", [](const PartialRotation& s) { return s.representative_nodes(); })
+      .def(
+          "rotation", [](const PartialRotation& s, Index d) { return Mat3(s.rotation(checked_domain(s, d))); },
+          py::arg("domain"))
+      .def(
+          "rotation_vector",
+          [](const PartialRotation& s, Index d) { return Vec3(s.rotation_vector(checked_domain(s, d))); },
+          py::arg("domain"));
+
   m.def(
       "recover_displacements",
-      [](const py::array& basis, const VecRef& q, const std::optional<NodeArray>& nodes, py::array& out) {
+      [](const py::array& basis, const VecRef& q, const std::optional<NodeArray>& nodes, py::array& out,
+         std::optional<std::reference_wrapper<PartialRotation>> rotation_arg) {
+        PartialRotation* rotation = rotation_arg ? &rotation_arg->get() : nullptr;
         // float64 basis: the exact recovery; float32: a half-size copy for speed. q by reference
         // (ModalBody passes the core's own contiguous q): a frame allocates nothing.
         const bool single = py::isinstance<py::array_t<float, py::array::c_style>>(basis) && basis.ndim() == 2 &&
                             (basis.flags() & py::array::c_style) && basis.shape(0) % 3 == 0 && basis.shape(1) > 0;
         const BasisMap B = single ? BasisMap(nullptr, basis.shape(0), basis.shape(1)) : basis_map(basis);
         if (q.size() != B.cols()) throw InvalidInput("q must have one entry per basis vector");
+        if (!q.allFinite()) throw InvalidInput("q must be finite");
         const Index n = B.rows() / 3;
+        if (rotation && rotation->n_nodes() != n)
+          throw InvalidInput("the partial rotation is set up for " + std::to_string(rotation->n_nodes()) +
+                             " nodes, the basis has " + std::to_string(n));
         const long long* idx = nodes ? nodes->data() : nullptr;
         const Index count = nodes ? Index(nodes->size()) : n;
         if (idx) check_node_indices(idx, count, n);
         double* o = writable_nodes_buffer(out, count, "out");
         const float* f = single ? static_cast<const float*>(basis.data()) : nullptr;
         py::gil_scoped_release release;
-        if (single) recover_displacements(f, B.rows(), B.cols(), q, idx, count, o);
-        else recover_displacements(B, q, idx, count, o);
+        auto recover = [&](const long long* which, Index how_many, double* into) {
+          if (single) recover_displacements(f, B.rows(), B.cols(), q, which, how_many, into);
+          else recover_displacements(B, q, which, how_many, into);
+        };
+        recover(idx, count, o);
+        if (rotation) {
+          const auto& points = rotation->representative_nodes();
+          recover(points.data(), Index(points.size()), rotation->representative_buffer());
+          rotation->fit(rotation->representative_buffer());
+          rotation->rotate(idx, count, o);
+        }
       },
-      py::arg("basis"), py::arg("q"), py::arg("nodes"), py::arg("out"),
+      py::arg("basis"), py::arg("q"), py::arg("nodes"), py::arg("out"), py::arg("rotation") = py::none(),
       "out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q; basis (3n, r) "
-      "C-contiguous float64 or float32.");
+      "C-contiguous float64 or float32. With a PartialRotation, each domain's displacements are then turned by "
+      "its rotation (fitted to its representative points' displacements, recovered from the same basis).");
+  m.def(
+      "rotate_displacements",
+      [](PartialRotation& rotation, const PointsIn& u, py::array& out) {
+        const Index n = rotation.n_nodes();
+        if (u.ndim() != 2 || u.shape(0) != n || u.shape(1) != 3)
+          throw InvalidInput("displacements must have shape (" + std::to_string(n) + ", 3)");
+        for (py::ssize_t k = 0; k < u.size(); ++k)
+          if (!std::isfinite(u.data()[k])) throw InvalidInput("displacements must be finite");
+        double* o = writable_nodes_buffer(out, n, "out");
+        const auto& points = rotation.representative_nodes();
+        for (std::size_t i = 0; i < points.size(); ++i)
+          for (int a = 0; a < 3; ++a) rotation.representative_buffer()[3 * i + a] = u.data()[3 * points[i] + a];
+        rotation.fit(rotation.representative_buffer());
+        if (o != u.data()) std::copy(u.data(), u.data() + 3 * n, o);
+        rotation.rotate(nullptr, n, o);
+      },
+      py::arg("rotation"), py::arg("displacements"), py::arg("out"),
+      "out = displacements (n, 3) with each domain's part turned by its rotation (fitted to the representative "
+      "points of these displacements).");
   m.def(
       "project_nodal_forces",
       [](const py::array& basis, const NodeArray& nodes, const PointsIn& forces, py::array& p) {

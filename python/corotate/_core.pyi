@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -492,6 +492,22 @@ class ModalIntegrator:
     @property
     def v(self) -> numpy.ndarray:
         ...
+class PartialRotation:
+    def __init__(self, rest: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], representative: collections.abc.Sequence[collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]], blended_nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:
+        ...
+    def rotation(self, domain: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        ...
+    def rotation_vector(self, domain: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def n_domains(self) -> int:
+        ...
+    @property
+    def n_nodes(self) -> int:
+        ...
+    @property
+    def representative_nodes(self) -> list[int]:
+        ...
 class SurfaceEmbedding:
     def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], max_outside_distance: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
         """
@@ -616,9 +632,13 @@ def project_nodal_forces(basis: numpy.ndarray, nodes: typing.Annotated[numpy.typ
     """
     p = sum over nodes of basis[rows of node]^T forces[k] (only the loaded nodes' rows are read).
     """
-def recover_displacements(basis: numpy.ndarray, q: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64] | None, out: numpy.ndarray) -> None:
+def recover_displacements(basis: numpy.ndarray, q: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64] | None, out: numpy.ndarray, rotation: PartialRotation | None = None) -> None:
     """
-    out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q; basis (3n, r) C-contiguous float64 or float32.
+    out[k] = displacement of nodes[k] (all nodes when nodes is None) for modal coordinates q; basis (3n, r) C-contiguous float64 or float32. With a PartialRotation, each domain's displacements are then turned by its rotation (fitted to its representative points' displacements, recovered from the same basis).
+    """
+def rotate_displacements(rotation: PartialRotation, displacements: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], out: numpy.ndarray) -> None:
+    """
+    out = displacements (n, 3) with each domain's part turned by its rotation (fitted to the representative points of these displacements).
     """
 def set_threads(n: typing.SupportsInt | typing.SupportsIndex) -> None:
     """

@@ -1,9 +1,11 @@
 // The modal force polynomial and the modal integrator: the tangent is the derivative of
 // the forces (central differences), the forces the gradient of the energy when the
 // tensors come from a potential, and a single-mode step reproduces backward Euler's
-// known amplification and phase.
+// known amplification and phase; partial rotation fits a rigid turn exactly and turns by
+// half of it.
 #include "corotate/modal/modal_basis.hpp"
 #include "corotate/modal/modal_integrator.hpp"
+#include "corotate/modal/partial_rotation.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
 
@@ -145,4 +147,47 @@ TEST(modal_recovery_and_projection_are_the_basis_products) {
   full.segment<3>(9) << 1, 2, 3;
   full.segment<3>(3) << 4, 5, 6;
   CHECK_NEAR((p - Phi.transpose() * full).norm(), 0.0, 1e-13);
+}
+
+TEST(partial_rotation_fits_a_rigid_turn_and_turns_by_half) {
+  // Five nodes; domain 0 = nodes 0-3 (its representative points), node 4 half-weighted.
+  Eigen::Matrix<double, 5, 3, Eigen::RowMajor> X;
+  X << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 2, 1, 0;
+  const Mat3 R = Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  Eigen::Matrix<double, 5, 3, Eigen::RowMajor> u = X * (R.transpose() - Mat3::Identity());  // x -> R x
+  const std::vector<long long> nodes = {0, 1, 2, 3, 4};
+  const double weights[] = {1, 1, 1, 1, 0.5};
+  PartialRotation rotation(X.data(), 5, {{0, 1, 2, 3}}, nodes, weights);
+  double points[12];
+  for (int i = 0; i < 12; ++i) points[i] = u.data()[i];
+  rotation.fit(points);
+  CHECK_NEAR((rotation.rotation(0) - R).norm(), 0.0, 1e-14);
+  CHECK_NEAR(rotation.rotation_vector(0).norm(), 0.4, 1e-14);
+  Eigen::Matrix<double, 5, 3, Eigen::RowMajor> turned = u;
+  rotation.rotate(nullptr, 5, turned.data());
+  const Vec3 axis = Vec3(1, 2, 3).normalized();
+  const Mat3 half = Eigen::AngleAxisd(0.2, axis).toRotationMatrix();
+  const Mat3 quarter = Eigen::AngleAxisd(0.1, axis).toRotationMatrix();
+  for (int i = 0; i < 4; ++i) CHECK_NEAR((turned.row(i).transpose() - half * u.row(i).transpose()).norm(), 0.0, 1e-14);
+  CHECK_NEAR((turned.row(4).transpose() - quarter * u.row(4).transpose()).norm(), 0.0, 1e-14);
+  // A subset gives the same rows.
+  const long long some[] = {4, 1};
+  double two[6] = {u(4, 0), u(4, 1), u(4, 2), u(1, 0), u(1, 1), u(1, 2)};
+  rotation.rotate(some, 2, two);
+  CHECK_NEAR((Eigen::Map<Vec3>(two) - turned.row(4).transpose()).norm(), 0.0, 1e-15);
+  CHECK_NEAR((Eigen::Map<Vec3>(two + 3) - turned.row(1).transpose()).norm(), 0.0, 1e-15);
+}
+
+TEST(partial_rotation_rejects_points_that_fix_no_rotation) {
+  Eigen::Matrix<double, 4, 3, Eigen::RowMajor> X;
+  X << 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0;
+  const double weights[] = {1.0};
+  const std::vector<long long> blended = {0};
+  CHECK_THROWS(PartialRotation(X.data(), 4, {{0, 1, 2}}, blended, weights), InvalidInput);  // on one line
+  CHECK_THROWS(PartialRotation(X.data(), 4, {{3, 3, 3, 3}}, blended, weights), InvalidInput);  // coincident
+  CHECK_THROWS(PartialRotation(X.data(), 4, {{0, 1, 4}}, blended, weights), InvalidInput);     // out of range
+  const double too_much[] = {1.5};
+  CHECK_THROWS(PartialRotation(X.data(), 4, {{0, 1, 3}}, blended, too_much), InvalidInput);
+  PartialRotation fine(X.data(), 4, {{0, 1, 3}}, blended, weights);
+  CHECK(fine.n_domains() == 1);
 }

@@ -27,6 +27,7 @@ import corotate._core as _core
 
 from .._attributes import SettableOnly
 from ..mesh import Mesh
+from .partial_rotation import PartialRotation
 from .reduction import ModalBasis
 
 if TYPE_CHECKING:
@@ -63,6 +64,9 @@ class ModalBody(SettableOnly):
     recovery    "float64" (default, exact) or "float32": recover displacements from a
                 single-precision copy of the basis (half the memory traffic of recovering
                 every node, which is bandwidth-bound; relative error ~1e-7)
+    partial_rotation  optional PartialRotation (the paper's §3.2) built on the basis's rest
+                positions: recovered displacements are turned domain by domain, in the C++
+                core, without allocating (settable; not stored by save())
 
     State: ``q``, ``modal_velocities``, ``modal_forces`` are (r,) writable views of the
     core's state; ``time`` [s]. Bad input raises ValueError and leaves the state as it was.
@@ -87,6 +91,7 @@ class ModalBody(SettableOnly):
         cubic: ArrayLike | None = None,
         mesh: Mesh | None = None,
         recovery: str = "float64",
+        partial_rotation: PartialRotation | None = None,
     ) -> None:
         if not isinstance(basis, ModalBasis):
             raise TypeError("basis must be a corotate.modal.ModalBasis (see craig_bampton)")
@@ -108,6 +113,8 @@ class ModalBody(SettableOnly):
         self._load_cases: np.ndarray = np.zeros((0, r))
         self._load_stiffness: np.ndarray = np.zeros((0, r, r))
         self._amplitudes: np.ndarray = np.zeros(0)
+        self._partial_rotation: PartialRotation | None = None
+        self.partial_rotation = partial_rotation
 
     # -- state ---------------------------------------------------------------
 
@@ -123,6 +130,17 @@ class ModalBody(SettableOnly):
     def recovery(self) -> str:
         """The recovery precision, "float64" or "float32" (read-only)."""
         return self._recovery
+
+    @property
+    def partial_rotation(self) -> PartialRotation | None:
+        """The PartialRotation applied while recovering displacements, or None (settable)."""
+        return self._partial_rotation
+
+    @partial_rotation.setter
+    def partial_rotation(self, value: PartialRotation | None) -> None:
+        if value is not None and (not isinstance(value, PartialRotation) or value.n_nodes != self.n_nodes):
+            raise ValueError(f"partial_rotation must be a PartialRotation on this body's {self.n_nodes} nodes, or None")
+        self._partial_rotation = value
 
     @property
     def n_modes(self) -> int:
@@ -287,8 +305,9 @@ class ModalBody(SettableOnly):
     # -- recovery and output -----------------------------------------------------
 
     def displacements(self, nodes: ArrayLike | None = None, out: np.ndarray | None = None) -> np.ndarray:
-        """Nodal displacements Phi q: (n, 3) for all nodes, or (k, 3) for ``nodes`` (k,).
-        With ``out`` (a float64 C-contiguous array of that shape) nothing is allocated."""
+        """Nodal displacements Phi q: (n, 3) for all nodes, or (k, 3) for ``nodes`` (k,), turned
+        by the partial rotation if one is set. With ``out`` (a float64 C-contiguous array of
+        that shape) nothing is allocated."""
         idx = None
         if nodes is not None:
             idx = np.atleast_1d(np.asarray(nodes))
@@ -299,7 +318,8 @@ class ModalBody(SettableOnly):
         count = self.n_nodes if idx is None else idx.size
         if out is None:
             out = np.empty((count, 3))
-        _core.recover_displacements(self._recovery_vectors, self._core.q, idx, out)
+        rotation = None if self._partial_rotation is None else self._partial_rotation.core
+        _core.recover_displacements(self._recovery_vectors, self._core.q, idx, out, rotation)
         return out
 
     def positions(self, out: np.ndarray | None = None) -> np.ndarray:

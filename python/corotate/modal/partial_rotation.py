@@ -5,7 +5,8 @@ cantilever rises but never moves back towards the clamp. Where parts of a struct
 as a whole (a beam's span, the crank arms of an axle), the displacements of each such
 domain are rotated by that domain's rotation.
 
-Per frame and domain k:
+Per frame and domain k (in the C++ core, cpp/include/corotate/modal/partial_rotation.hpp,
+allocation-free; ModalBody applies it while recovering displacements):
   1. the rotation R_k of its (four) representative points, rest -> modally displaced, in the
      least-squares sense (Kabsch: the polar factor of the points' covariance matrix);
   2. each node's displacement u is replaced by R(theta / 2) u, theta the rotation vector of R_k.
@@ -31,7 +32,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.spatial import cKDTree
-from scipy.spatial.transform import Rotation
+
+import corotate._core as _core
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -42,7 +44,8 @@ __all__ = ["PartialRotation", "least_squares_rotation"]
 
 
 def least_squares_rotation(rest: np.ndarray, moved: np.ndarray) -> np.ndarray:
-    """The proper rotation R minimising sum |R (p_i - p_mean) - (x_i - x_mean)|^2 (Kabsch)."""
+    """The proper rotation R minimising sum |R (p_i - p_mean) - (x_i - x_mean)|^2 (Kabsch);
+    NumPy, for measuring (e.g. how far a part of a full solution turned)."""
     a = rest - rest.mean(axis=0)
     b = moved - moved.mean(axis=0)
     U, _, Vt = np.linalg.svd(a.T @ b)
@@ -59,6 +62,9 @@ class PartialRotation:
                      at least three, not on one line), one per domain
     blend_distance   width [m] of the band outside each domain over which its rotation fades
                      out (0: only the domain's own nodes turn)
+
+    Pass it to ModalBody(partial_rotation=...) to rotate while recovering, or call apply(u).
+    Bad input raises ValueError.
     """
 
     def __init__(
@@ -76,23 +82,22 @@ class PartialRotation:
         if not (np.isfinite(blend_distance) and blend_distance >= 0):
             raise ValueError("blend_distance must be >= 0")
         n = len(X)
-        self._rest = X
-        self._points = []
         weights = np.zeros((n, len(domains)))
+        points = []
         for k, (dom, rep) in enumerate(zip(domains, representative)):
             d = self._nodes(dom, n, f"domain {k}")
-            p = self._nodes(rep, n, f"representative points of domain {k}")
-            if p.size < 3 or np.linalg.matrix_rank(X[p] - X[p].mean(axis=0), tol=1e-9 * np.ptp(X)) < 2:
-                raise ValueError(f"domain {k} needs at least three representative points not on one line")
-            self._points.append(p)
+            points.append(self._nodes(rep, n, f"representative points of domain {k}"))
             weights[d, k] = 1.0
             if blend_distance > 0:
                 dist, _ = cKDTree(X[d]).query(X)
                 weights[:, k] = np.maximum(weights[:, k], 1.0 - dist / blend_distance)
         total = weights.sum(axis=1, keepdims=True)
-        self._weights = weights / np.maximum(total, 1.0)
-        self._affected = np.flatnonzero(self._weights.sum(axis=1) > 0)
-        self.rotations = np.tile(np.eye(3), (len(domains), 1, 1))  #: (k, 3, 3) of the last call
+        weights /= np.maximum(total, 1.0)
+        affected = np.flatnonzero(weights.sum(axis=1) > 0)
+        # The core checks the representative points (three or more, not on one line).
+        self._core = _core.PartialRotation(X, [p.tolist() for p in points], affected, weights[affected])
+        self._weights = weights
+        self._shape = X.shape
 
     @staticmethod
     def _nodes(nodes: ArrayLike, n: int, what: str) -> np.ndarray:
@@ -104,22 +109,35 @@ class PartialRotation:
         return idx.astype(np.int64)
 
     @property
+    def core(self) -> _core.PartialRotation:
+        """The C++ object that fits and rotates (what ModalBody hands to the recovery)."""
+        return self._core
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self._shape[0])
+
+    @property
+    def n_domains(self) -> int:
+        return int(self._core.n_domains)
+
+    @property
     def weights(self) -> np.ndarray:
         """(n, k) blend weights of the domains' rotations per node (a copy)."""
         return self._weights.copy()
 
-    def apply(self, displacements: ArrayLike) -> np.ndarray:
-        """(n, 3) modal displacements -> the partially rotated displacements (a new array);
-        ``rotations`` holds the domains' least-squares rotations afterwards."""
+    @property
+    def rotations(self) -> np.ndarray:
+        """(k, 3, 3) the domains' least-squares rotations of the last apply() or recovery."""
+        return np.array([self._core.rotation(k) for k in range(self.n_domains)])
+
+    def apply(self, displacements: ArrayLike, out: np.ndarray | None = None) -> np.ndarray:
+        """(n, 3) modal displacements -> the partially rotated displacements (into ``out``, a
+        C-contiguous float64 (n, 3) array, which may be the input; else a new array)."""
         u = np.asarray(displacements, dtype=np.float64)
-        if u.shape != self._rest.shape or not np.all(np.isfinite(u)):
-            raise ValueError(f"displacements must be a finite array of shape {self._rest.shape}")
-        rotvecs = np.empty((len(self._points), 3))
-        for k, p in enumerate(self._points):
-            self.rotations[k] = least_squares_rotation(self._rest[p], self._rest[p] + u[p])
-            rotvecs[k] = Rotation.from_matrix(self.rotations[k]).as_rotvec()
-        out = u.copy()
-        i = self._affected
-        half = Rotation.from_rotvec(0.5 * (self._weights[i] @ rotvecs))
-        out[i] = half.apply(u[i])
+        if u.shape != self._shape or not np.all(np.isfinite(u)):
+            raise ValueError(f"displacements must be a finite array of shape {self._shape}")
+        if out is None:
+            out = np.empty(self._shape)
+        _core.rotate_displacements(self._core, u, out)
         return out
