@@ -168,6 +168,19 @@ void bind_modal(py::module_& m) {
       "C-contiguous float64 or float32. With a PartialRotation, each domain's displacements are then turned by "
       "its rotation (fitted to its representative points' displacements, recovered from the same basis).");
   m.def(
+      "least_squares_rotation",
+      [](const PointsIn& rest, const PointsIn& moved) {
+        if (rest.ndim() != 2 || rest.shape(1) != 3 || moved.ndim() != 2 || moved.shape(0) != rest.shape(0) ||
+            moved.shape(1) != 3)
+          throw InvalidInput("rest and moved points must both have shape (m, 3)");
+        const Nodes a = nodes_from(rest, "rest points"), b = nodes_from(moved, "moved points");
+        if (!a.allFinite() || !b.allFinite()) throw InvalidInput("points must be finite");
+        const Mat3 covariance = (a.colwise() - a.rowwise().mean()) * (b.colwise() - b.rowwise().mean()).transpose();
+        return least_squares_rotation(covariance);
+      },
+      py::arg("rest"), py::arg("moved"),
+      "The proper rotation R minimising sum |R (p_i - p_mean) - (x_i - x_mean)|^2 (Kabsch).");
+  m.def(
       "rotate_displacements",
       [](PartialRotation& rotation, const PointsIn& u, py::array& out) {
         const Index n = rotation.n_nodes();

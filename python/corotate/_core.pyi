@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'least_squares_rotation', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -611,6 +611,10 @@ def have_openmp() -> bool:
 def integrator_names() -> list[str]:
     """
     Every integrator name.
+    """
+def least_squares_rotation(rest: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], moved: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+    """
+    The proper rotation R minimising sum |R (p_i - p_mean) - (x_i - x_mean)|^2 (Kabsch).
     """
 def model_names() -> list[str]:
     """

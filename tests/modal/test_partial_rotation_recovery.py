@@ -36,17 +36,25 @@ def setup():
     return mesh, basis, rotation, reps, q
 
 
+def kabsch(rest, moved):
+    a, b = rest - rest.mean(axis=0), moved - moved.mean(axis=0)
+    U, _, Vt = np.linalg.svd(a.T @ b)
+    return Vt.T @ np.diag([1.0, 1.0, np.sign(np.linalg.det(Vt.T @ U.T))]) @ U.T
+
+
 def reference(X, u, weights, reps):
     """The method in NumPy/SciPy: Kabsch per domain, blended rotation vectors, half angle."""
-    rotvecs = np.array([Rotation.from_matrix(least_squares_rotation(X[p], X[p] + u[p])).as_rotvec() for p in reps])
+    rotvecs = np.array([Rotation.from_matrix(kabsch(X[p], X[p] + u[p])).as_rotvec() for p in reps])
     return Rotation.from_rotvec(0.5 * (weights @ rotvecs)).apply(u)
 
 
 def test_core_equals_the_numpy_statement(setup):
     mesh, basis, rotation, reps, q = setup
-    u = (basis.vectors @ q).reshape(-1, 3)
-    expected = reference(mesh.points, u, rotation.weights, reps)
+    X, u = mesh.points, (basis.vectors @ q).reshape(-1, 3)
+    expected = reference(X, u, rotation.weights, reps)
     got = rotation.apply(u)
+    for p, R in zip(reps, rotation.rotations):
+        np.testing.assert_allclose(least_squares_rotation(X[p], X[p] + u[p]), R, atol=1e-14)
     turned = np.degrees(np.linalg.norm(Rotation.from_matrix(rotation.rotations).as_rotvec(), axis=1))
     assert turned[0] > 2 and 10 < turned[1] < 20, turned
     assert np.abs(got - u).max() > 0.05 * np.abs(u).max()  # the rotation does something
@@ -89,6 +97,10 @@ def test_bad_input_is_rejected(setup):
         PartialRotation(np.full(X.shape, np.nan), [np.arange(10)], [reps[0]])
     with pytest.raises(ValueError, match="shape"):
         rotation.apply(np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="shape"):
+        least_squares_rotation(X[:4], X[:5])
+    with pytest.raises(ValueError, match="finite"):
+        least_squares_rotation(X[:4], np.full((4, 3), np.nan))
     with pytest.raises(ValueError, match="finite"):
         rotation.apply(np.full(X.shape, np.nan))
     body = ModalBody(basis, partial_rotation=rotation)

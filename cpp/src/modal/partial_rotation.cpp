@@ -17,6 +17,14 @@ Mat3 rotation_about(const Vec3& v) {
 
 }  // namespace
 
+Mat3 least_squares_rotation(const Mat3& covariance) {
+  const Eigen::JacobiSVD<Mat3> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Mat3 V = svd.matrixV(), U = svd.matrixU();
+  Mat3 reflection = Mat3::Identity();
+  if ((V * U.transpose()).determinant() < 0) reflection(2, 2) = -1.0;  // a proper rotation only
+  return V * reflection * U.transpose();
+}
+
 PartialRotation::PartialRotation(const double* rest, Index n_nodes,
                                  const std::vector<std::vector<long long>>& representative,
                                  const std::vector<long long>& blended_nodes, const double* weights)
@@ -88,11 +96,7 @@ void PartialRotation::fit(const double* representative_displacements) {
     Mat3 covariance = Mat3::Zero();  // sum_i a_i b_i^T
     for (Index i = 0; i < dp.count; ++i)
       covariance.noalias() += dp.centred_rest.col(i) * (dp.centred_rest.col(i) + u.col(i) - mean).transpose();
-    const Eigen::JacobiSVD<Mat3> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Mat3 V = svd.matrixV(), U = svd.matrixU();
-    Mat3 reflection = Mat3::Identity();
-    if ((V * U.transpose()).determinant() < 0) reflection(2, 2) = -1.0;  // a proper rotation only
-    rotations_[d] = V * reflection * U.transpose();
+    rotations_[d] = least_squares_rotation(covariance);
     const Eigen::AngleAxisd angle_axis(rotations_[d]);
     rotation_vectors_[d] = angle_axis.angle() * angle_axis.axis();
     half_rotations_[d] = rotation_about(0.5 * rotation_vectors_[d]);

@@ -43,14 +43,11 @@ if TYPE_CHECKING:
 __all__ = ["PartialRotation", "least_squares_rotation"]
 
 
-def least_squares_rotation(rest: np.ndarray, moved: np.ndarray) -> np.ndarray:
-    """The proper rotation R minimising sum |R (p_i - p_mean) - (x_i - x_mean)|^2 (Kabsch);
-    NumPy, for measuring (e.g. how far a part of a full solution turned)."""
-    a = rest - rest.mean(axis=0)
-    b = moved - moved.mean(axis=0)
-    U, _, Vt = np.linalg.svd(a.T @ b)
-    d = np.sign(np.linalg.det(Vt.T @ U.T))
-    return Vt.T @ np.diag([1.0, 1.0, d]) @ U.T
+def least_squares_rotation(rest: ArrayLike, moved: ArrayLike) -> np.ndarray:
+    """The proper rotation R minimising sum |R (p_i - p_mean) - (x_i - x_mean)|^2 (Kabsch) for
+    (m, 3) rest points p and moved points x: the fit PartialRotation makes per domain, for
+    measuring how far a part of any solution turned."""
+    return np.asarray(_core.least_squares_rotation(rest, moved))
 
 
 class PartialRotation:

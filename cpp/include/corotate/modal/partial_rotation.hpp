@@ -24,6 +24,11 @@
 
 namespace corotate {
 
+// The proper rotation R minimising sum_i |R a_i - b_i|^2 over centred point pairs (a_i, b_i),
+// from their covariance H = sum_i a_i b_i^T: the polar factor of H^T (Kabsch), a reflection
+// turned into the nearest rotation.
+Mat3 least_squares_rotation(const Mat3& covariance);
+
 class PartialRotation {
  public:
   // rest: n x 3 row-major rest positions. representative[k]: the nodes of domain k whose fit
