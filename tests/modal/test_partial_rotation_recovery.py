@@ -81,6 +81,20 @@ def test_modal_body_recovers_rotated_displacements(setup):
     np.testing.assert_allclose(fast.displacements(subset), expected[subset], rtol=0, atol=1e-6 * np.abs(out).max())
 
 
+def test_saved_body_keeps_its_partial_rotation(setup, tmp_path):
+    _mesh, basis, rotation, _reps, q = setup
+    body = ModalBody(basis, partial_rotation=rotation)
+    body.save(tmp_path / "turned.npz")
+    again = ModalBody.load(tmp_path / "turned.npz")
+    assert again.partial_rotation is not None
+    np.testing.assert_array_equal(again.partial_rotation.weights, rotation.weights)
+    for b in (body, again):
+        b.q[:] = q
+    np.testing.assert_array_equal(again.displacements(), body.displacements())
+    ModalBody(basis).save(tmp_path / "plain.npz")
+    assert ModalBody.load(tmp_path / "plain.npz").partial_rotation is None
+
+
 def test_bad_input_is_rejected(setup):
     mesh, basis, rotation, reps, q = setup
     X = mesh.points

@@ -66,7 +66,7 @@ class ModalBody(SettableOnly):
                 every node, which is bandwidth-bound; relative error ~1e-7)
     partial_rotation  optional PartialRotation (the paper's §3.2) built on the basis's rest
                 positions: recovered displacements are turned domain by domain, in the C++
-                core, without allocating (settable; not stored by save())
+                core, without allocating (settable; saved with the body)
 
     State: ``q``, ``modal_velocities``, ``modal_forces`` are (r,) writable views of the
     core's state; ``time`` [s]. Bad input raises ValueError and leaves the state as it was.
@@ -336,8 +336,9 @@ class ModalBody(SettableOnly):
     # -- files --------------------------------------------------------------------
 
     def save(self, path: str | os.PathLike[str]) -> None:
-        """Save the reduced model (basis, modal stiffness, force tensors, load cases, settings
-        and, if present, the mesh connectivity for output) to a NumPy .npz file: all that
+        """Save the reduced model (basis, modal stiffness, force tensors, load cases, settings,
+        the partial rotation's domains and, if present, the mesh connectivity for output) to a
+        NumPy .npz file: all that
         ModalBody.load needs to run it without the full model."""
         b = self._basis
         arrays: dict[str, Any] = {
@@ -355,6 +356,8 @@ class ModalBody(SettableOnly):
             "load_cases": self._load_cases,
             "load_stiffness": self._load_stiffness,
         }
+        if self._partial_rotation is not None:
+            arrays.update({f"partial_rotation_{k}": v for k, v in self._partial_rotation.to_arrays().items()})
         if self._mesh is not None:
             arrays["cells"] = self._mesh.cells
             arrays["cell_type"] = np.array(self._mesh.cell_type)
@@ -386,4 +389,8 @@ class ModalBody(SettableOnly):
             )
             if data["load_cases"].size:
                 body.set_load_cases(data["load_cases"], data["load_stiffness"])
+            prefix = "partial_rotation_"
+            if any(key.startswith(prefix) for key in data.files):
+                arrays = {key[len(prefix) :]: data[key] for key in data.files if key.startswith(prefix)}
+                body.partial_rotation = PartialRotation.from_arrays(basis.rest_positions, arrays)
         return body

@@ -80,9 +80,10 @@ class PartialRotation:
             raise ValueError("blend_distance must be >= 0")
         n = len(X)
         weights = np.zeros((n, len(domains)))
-        points = []
+        points, domain_nodes = [], []
         for k, (dom, rep) in enumerate(zip(domains, representative)):
             d = self._nodes(dom, n, f"domain {k}")
+            domain_nodes.append(d)
             points.append(self._nodes(rep, n, f"representative points of domain {k}"))
             weights[d, k] = 1.0
             if blend_distance > 0:
@@ -95,6 +96,7 @@ class PartialRotation:
         self._core = _core.PartialRotation(X, [p.tolist() for p in points], affected, weights[affected])
         self._weights = weights
         self._shape = X.shape
+        self._definition = (domain_nodes, points, float(blend_distance))
 
     @staticmethod
     def _nodes(nodes: ArrayLike, n: int, what: str) -> np.ndarray:
@@ -104,6 +106,31 @@ class PartialRotation:
         if idx.min() < 0 or idx.max() >= n:
             raise ValueError(f"{what}: node index out of range [0, {n})")
         return idx.astype(np.int64)
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """The definition as flat arrays (for a .npz file); from_arrays rebuilds it."""
+        domains, points, blend = self._definition
+        return {
+            "domain_nodes": np.concatenate(domains),
+            "domain_sizes": np.array([d.size for d in domains]),
+            "representative_nodes": np.concatenate(points),
+            "representative_sizes": np.array([p.size for p in points]),
+            "blend_distance": np.array(blend),
+        }
+
+    @classmethod
+    def from_arrays(cls, rest_positions: ArrayLike, arrays: dict[str, np.ndarray]) -> PartialRotation:
+        """The PartialRotation of to_arrays() on these rest positions."""
+
+        def split(nodes: np.ndarray, sizes: np.ndarray) -> list[np.ndarray]:
+            return np.split(nodes, np.cumsum(sizes)[:-1])
+
+        return cls(
+            rest_positions,
+            split(arrays["domain_nodes"], arrays["domain_sizes"]),
+            split(arrays["representative_nodes"], arrays["representative_sizes"]),
+            float(arrays["blend_distance"]),
+        )
 
     @property
     def core(self) -> _core.PartialRotation:
