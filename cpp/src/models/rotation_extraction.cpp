@@ -1,7 +1,11 @@
 #include "corotate/models/rotation_extraction.hpp"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include "corotate/cpu_clones.hpp"
 
 namespace corotate {
 
@@ -13,65 +17,177 @@ Mat3 polar_rotation_svd(const Mat3& F) {
   return U * V.transpose();
 }
 
-Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
-  // The polar rotation maximises tr(R^T F) over rotations. With R = exp([w]) R_c and
-  // B = F R_c^T, that objective is, to second order in w,
-  //     tr(B) + g.w - 1/2 w^T (tr(B) I - sym(B)) w,   g = sum_i r_i x f_i,
-  // where r_i, f_i are the columns of R_c and F. Mueller et al. 2016 step along g scaled by
-  // 1/tr(B), which converges linearly (rate 1/3 near a rotation). Taking the full Newton step
-  // w = (tr(B) I - sym(B))^-1 g converges quadratically: from the previous step's rotation,
-  // two or three iterations reach round-off. Where that Hessian is not positive definite
-  // (far from the answer) the Mueller step is the safe choice.
-  constexpr int max_iterations = 20;
-  constexpr double converged_step = 1e-6;  // quadratic: the remaining error is ~1e-12
-  if (!F.allFinite()) return q.toRotationMatrix();
-  const double scale = F.norm();
-  if (!(scale > 0)) return q.toRotationMatrix();
-  const Mat3 A = F / scale;
-  for (int it = 0; it < max_iterations; ++it) {
-    const Mat3 R = q.toRotationMatrix();
-    const Vec3 g = R.col(0).cross(A.col(0)) + R.col(1).cross(A.col(1)) + R.col(2).cross(A.col(2));
-    const Mat3 B = A * R.transpose();
-    const double trace = B.trace();
+namespace {
+
+constexpr int kMaxIterations = 20;
+constexpr double kConvergedStep = 1e-6;  // quadratic: the remaining error is ~1e-12
+
+// W problems side by side, structure of arrays: A = F / |F| (row-major, a[3 i + j][lane]),
+// the quaternion (w, x, y, z) and the angle of the last step.
+template <int W>
+struct Lanes {
+  double a[9][W];
+  double q[4][W];
+  double angle[W];
+};
+
+// One iteration for every lane, branch-free so that the compiler vectorises it across lanes:
+// the W dependency chains (each a long serial chain of products, a division and two square
+// roots) then overlap instead of waiting on each other.
+//
+// The polar rotation maximises tr(R^T F) over rotations. With R = exp([w]) R_c and
+// B = F R_c^T, that objective is, to second order in w,
+//     tr(B) + g.w - 1/2 w^T (tr(B) I - sym(B)) w,   g = sum_i r_i x f_i,
+// where r_i, f_i are the columns of R_c and F. Mueller et al. 2016 step along g scaled by
+// 1/tr(B), which converges linearly (rate 1/3 near a rotation). Taking the full Newton step
+// w = (tr(B) I - sym(B))^-1 g converges quadratically: from the previous step's rotation,
+// two or three iterations reach round-off. Where that Hessian is not positive definite (far
+// from the answer) the Mueller step is the safe choice. The step is applied as the unit
+// quaternion (1, w/2) / |(1, w/2)|: a rotation about w by 2 atan(|w|/2) = |w| - |w|^3/12 + ...,
+// which keeps the convergence quadratic without a sine or cosine.
+template <int W>
+COROTATE_CLONE_INLINE void newton_iteration(Lanes<W>& L) {
+  for (int l = 0; l < W; ++l) {
+    const double qw = L.q[0][l], qx = L.q[1][l], qy = L.q[2][l], qz = L.q[3][l];
+    // R(q), row-major.
+    const double r00 = 1 - 2 * (qy * qy + qz * qz), r01 = 2 * (qx * qy - qz * qw), r02 = 2 * (qx * qz + qy * qw);
+    const double r10 = 2 * (qx * qy + qz * qw), r11 = 1 - 2 * (qx * qx + qz * qz), r12 = 2 * (qy * qz - qx * qw);
+    const double r20 = 2 * (qx * qz - qy * qw), r21 = 2 * (qy * qz + qx * qw), r22 = 1 - 2 * (qx * qx + qy * qy);
+    const double a00 = L.a[0][l], a01 = L.a[1][l], a02 = L.a[2][l];
+    const double a10 = L.a[3][l], a11 = L.a[4][l], a12 = L.a[5][l];
+    const double a20 = L.a[6][l], a21 = L.a[7][l], a22 = L.a[8][l];
+    // g = sum over columns c of R.col(c) x A.col(c).
+    const double gx = (r10 * a20 - r20 * a10) + (r11 * a21 - r21 * a11) + (r12 * a22 - r22 * a12);
+    const double gy = (r20 * a00 - r00 * a20) + (r21 * a01 - r01 * a21) + (r22 * a02 - r02 * a22);
+    const double gz = (r00 * a10 - r10 * a00) + (r01 * a11 - r11 * a01) + (r02 * a12 - r12 * a02);
+    // B = A R^T.
+    const double b00 = a00 * r00 + a01 * r01 + a02 * r02, b01 = a00 * r10 + a01 * r11 + a02 * r12;
+    const double b02 = a00 * r20 + a01 * r21 + a02 * r22, b10 = a10 * r00 + a11 * r01 + a12 * r02;
+    const double b11 = a10 * r10 + a11 * r11 + a12 * r12, b12 = a10 * r20 + a11 * r21 + a12 * r22;
+    const double b20 = a20 * r00 + a21 * r01 + a22 * r02, b21 = a20 * r10 + a21 * r11 + a22 * r12;
+    const double b22 = a20 * r20 + a21 * r21 + a22 * r22;
+    const double trace = b00 + b11 + b22;
     // H = tr(B) I - sym(B), solved by its adjugate when its leading minors say it is
     // positive definite (a 3x3 LLT costs more and tells the same).
-    const double h00 = trace - B(0, 0), h11 = trace - B(1, 1), h22 = trace - B(2, 2);
-    const double h01 = -0.5 * (B(0, 1) + B(1, 0)), h02 = -0.5 * (B(0, 2) + B(2, 0)), h12 = -0.5 * (B(1, 2) + B(2, 1));
+    const double h00 = trace - b00, h11 = trace - b11, h22 = trace - b22;
+    const double h01 = -0.5 * (b01 + b10), h02 = -0.5 * (b02 + b20), h12 = -0.5 * (b12 + b21);
     const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
+    const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
     const double det = h00 * c00 + h01 * c01 + h02 * c02;
-    Vec3 w;
-    if (h00 > 0 && h00 * h11 - h01 * h01 > 0 && det > 0) {
-      const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
-      w = Vec3(c00 * g.x() + c01 * g.y() + c02 * g.z(), c01 * g.x() + c11 * g.y() + c12 * g.z(),
-               c02 * g.x() + c12 * g.y() + c22 * g.z()) /
-          det;
-    } else {
-      w = g / (std::abs(trace) + 1e-9);
+    // (Both reciprocals computed and bitwise & instead of &&: no branch in the loop.)
+    const bool newton = (h00 > 0) & (c22 > 0) & (det > 0);
+    const double newton_scale = 1 / det, mueller_scale = 1 / (std::abs(trace) + 1e-9);
+    const double inv = newton ? newton_scale : mueller_scale;
+    double wx = newton ? c00 * gx + c01 * gy + c02 * gz : gx;
+    double wy = newton ? c01 * gx + c11 * gy + c12 * gz : gy;
+    double wz = newton ? c02 * gx + c12 * gy + c22 * gz : gz;
+    wx *= inv, wy *= inv, wz *= inv;
+    const double angle = std::sqrt(wx * wx + wy * wy + wz * wz);
+    // Trust region: at most one radian per iteration. A non-finite step leaves q as it was
+    // and reports an infinite angle (the caller then falls back to the SVD).
+    const bool finite = angle <= std::numeric_limits<double>::max();
+    const double limited = 0.5 / std::max(angle, 1.0);
+    const double half = finite ? limited : 0.0;
+    const double dx = half * wx, dy = half * wy, dz = half * wz;
+    // q <- (1, d) q, then normalised.
+    const double nw = qw - (dx * qx + dy * qy + dz * qz);
+    const double nx = qx + dx * qw + (dy * qz - dz * qy);
+    const double ny = qy + dy * qw + (dz * qx - dx * qz);
+    const double nz = qz + dz * qw + (dx * qy - dy * qx);
+    const double s = 1 / std::sqrt(nw * nw + nx * nx + ny * ny + nz * nz);
+    L.q[0][l] = nw * s, L.q[1][l] = nx * s, L.q[2][l] = ny * s, L.q[3][l] = nz * s;
+    L.angle[l] = finite ? angle : std::numeric_limits<double>::infinity();
+  }
+}
+
+// Loads F and q into the lanes, F scaled to unit norm. A lane whose F is zero or not finite
+// gets the identity (harmless) and ok = false: the rotation of its q is then the answer.
+template <int W>
+COROTATE_CLONE_INLINE void load_lanes(Lanes<W>& L, bool* ok, const Mat3* F, const Eigen::Quaterniond* q, int n) {
+  for (int l = 0; l < W; ++l) {
+    const int k = l < n ? l : 0;  // lanes past n repeat the first problem
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L.a[3 * i + j][l] = F[k](i, j);
+    L.q[0][l] = q[k].w(), L.q[1][l] = q[k].x(), L.q[2][l] = q[k].y(), L.q[3][l] = q[k].z();
+  }
+  double scale[W];
+  for (int l = 0; l < W; ++l) {
+    double s2 = 0;
+    for (int c = 0; c < 9; ++c) s2 += L.a[c][l] * L.a[c][l];
+    const bool good = (s2 > 0) & (s2 <= std::numeric_limits<double>::max());  // false for NaN
+    const double inverse = 1 / std::sqrt(s2);
+    scale[l] = good ? inverse : 0.0;
+    ok[l] = good;
+  }
+  for (int c = 0; c < 9; ++c)
+    for (int l = 0; l < W; ++l) {
+      const double identity = (c % 4 == 0) ? 1.0 : 0.0;
+      L.a[c][l] = ok[l] ? L.a[c][l] * scale[l] : identity;
     }
-    double angle = w.norm();
-    if (!(angle < 1.0)) {  // trust region: at most one radian per iteration
-      if (!std::isfinite(angle)) break;
-      w /= angle;
-      angle = 1.0;
-    }
-    // q <- exp(w/2) q; for small angles the series avoids sin and cos (error < 1e-17).
-    double c, s_over_angle;
-    if (angle < 1e-3) {
-      const double a2 = angle * angle;
-      c = 1 - a2 / 8;
-      s_over_angle = 0.5 - a2 / 48;
-    } else {
-      c = std::cos(0.5 * angle);
-      s_over_angle = std::sin(0.5 * angle) / angle;
-    }
-    const Eigen::Quaterniond dq(c, s_over_angle * w.x(), s_over_angle * w.y(), s_over_angle * w.z());
-    q = dq * q;
-    q.normalize();
-    if (angle < converged_step) return q.toRotationMatrix();
+}
+
+// R(q) of every lane (unit quaternions).
+template <int W>
+COROTATE_CLONE_INLINE void lane_rotations(const Lanes<W>& L, double (&r)[9][W]) {
+  for (int l = 0; l < W; ++l) {
+    const double qw = L.q[0][l], qx = L.q[1][l], qy = L.q[2][l], qz = L.q[3][l];
+    r[0][l] = 1 - 2 * (qy * qy + qz * qz), r[1][l] = 2 * (qx * qy - qz * qw), r[2][l] = 2 * (qx * qz + qy * qw);
+    r[3][l] = 2 * (qx * qy + qz * qw), r[4][l] = 1 - 2 * (qx * qx + qz * qz), r[5][l] = 2 * (qy * qz - qx * qw);
+    r[6][l] = 2 * (qx * qz - qy * qw), r[7][l] = 2 * (qy * qz + qx * qw), r[8][l] = 1 - 2 * (qx * qx + qy * qy);
+  }
+}
+
+template <int W>
+COROTATE_CLONE_INLINE Eigen::Quaterniond lane_quaternion(const Lanes<W>& L, int l) {
+  return Eigen::Quaterniond(L.q[0][l], L.q[1][l], L.q[2][l], L.q[3][l]);
+}
+
+// The batched sweep's lockstep iterations: enough for a warm start that moved less than
+// ~0.02 rad since the last call (the usual step); the rest finish one by one.
+constexpr int kLockstepIterations = 2;
+constexpr int kBatch = 8;
+
+}  // namespace
+
+Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
+  Lanes<1> L;
+  bool ok;
+  load_lanes(L, &ok, &F, &q, 1);
+  if (!ok) return q.toRotationMatrix();
+  for (int it = 0; it < kMaxIterations; ++it) {
+    newton_iteration(L);
+    if (!(L.angle[0] <= std::numeric_limits<double>::max())) break;
+    q = lane_quaternion(L, 0);
+    if (L.angle[0] < kConvergedStep) return q.toRotationMatrix();
   }
   const Mat3 R = polar_rotation_svd(F);
   q = Eigen::Quaterniond(R);
   return R;
+}
+
+COROTATE_CPU_CLONES void extract_rotations(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count) {
+  for (int first = 0; first < count; first += kBatch) {
+    const int n = std::min(kBatch, count - first);
+    Lanes<kBatch> L;
+    bool ok[kBatch];
+    load_lanes(L, ok, F + first, q + first, n);
+    for (int it = 0; it < kLockstepIterations; ++it) newton_iteration(L);
+    double r[9][kBatch];
+    lane_rotations(L, r);
+    for (int l = 0; l < n; ++l) {
+      const int k = first + l;
+      if (!ok[l]) {
+        R[k] = q[k].toRotationMatrix();
+      } else if (L.angle[l] < kConvergedStep) {
+        q[k] = lane_quaternion(L, l);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) R[k](i, j) = r[3 * i + j][l];
+      } else {  // not there yet (a large rotation since the last call, or no finite step)
+        if (L.angle[l] <= std::numeric_limits<double>::max()) q[k] = lane_quaternion(L, l);
+        R[k] = extract_rotation(F[k], q[k]);
+      }
+    }
+  }
 }
 
 }  // namespace corotate

@@ -132,6 +132,7 @@ class AssembledModel final : public ForceModel {
   // the one-thread assembly at 15,360 tets ~40 % slower); a structured beam's chunks then need
   // two or three colours.
   static constexpr Index kChunk = 512;
+  static constexpr int kFrameBatch = kernel_frame_batch<Kernel>;
   std::vector<std::vector<int>> colour_chunks_;  // chunk indices of each colour
   std::vector<double> chunk_energy_;
   std::vector<Index> chunk_inverted_;
@@ -253,11 +254,9 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
                          "' model has no separate geometric stiffness (the hyperelastic models have one)");
     // One element: gather, frame, what was asked, scatter. Touches only the entries of its
     // own nodes (see colour_chunks).
-    auto element = [&](Index e, NodeMatrix& xe, NodeMatrix& ye, NodeMatrix& fe, Stiffness& Ke, NodeScalars& k,
-                       double& energy, Index& inverted) {
+    auto element = [&](Index e, const NodeMatrix& xe, const typename Kernel::Frame& frame, NodeMatrix& ye,
+                       NodeMatrix& fe, Stiffness& Ke, NodeScalars& k, double& energy, Index& inverted) {
       const auto& el = elements_[e];
-      gather(x, e, xe);
-      const typename Kernel::Frame frame = kernel_.frame(el, xe, caches_[e]);
       if (what.energy) energy += kernel_.energy(el, frame, xe);
       if (what.count_inverted && !(kernel_.volume_ratio(el, frame, xe) > 0)) ++inverted;
       bool have_model_stiffness = false;
@@ -315,14 +314,25 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       COROTATE_PARALLEL_FOR(count > 1)
       for (Index i = 0; i < count; ++i) {
         const Index c = chunks[i];
-        NodeMatrix xe, ye, fe;
+        NodeMatrix xe[kFrameBatch], ye, fe;
+        typename Kernel::Frame frames[kFrameBatch];
         Stiffness Ke;
         NodeScalars k;
         double energy = 0;
         Index inverted = 0;
         try {
-          for (Index e = c * kChunk, last = std::min(m, e + kChunk); e < last; ++e)
-            element(e, xe, ye, fe, Ke, k, energy, inverted);
+          // The frames (rotations) of kFrameBatch elements at once where the kernel batches
+          // them, then the rest element by element.
+          for (Index first = c * kChunk, last = std::min(m, first + kChunk); first < last; first += kFrameBatch) {
+            const int count = static_cast<int>(std::min<Index>(kFrameBatch, last - first));
+            for (int b = 0; b < count; ++b) gather(x, first + b, xe[b]);
+            if constexpr (kFrameBatch > 1) {
+              kernel_.frames(&elements_[first], xe, &caches_[first], frames, count);
+            } else {
+              frames[0] = kernel_.frame(elements_[first], xe[0], caches_[first]);
+            }
+            for (int b = 0; b < count; ++b) element(first + b, xe[b], frames[b], ye, fe, Ke, k, energy, inverted);
+          }
         } catch (...) {
           chunk_error_[c] = std::current_exception();
         }

@@ -28,6 +28,10 @@
 //   Element precompute(const NodeMatrix& X, Index e) const;   from the rest shape X (3 x N);
 //                                                             throws InvalidInput naming e
 //   Frame frame(const Element&, const NodeMatrix& x, Cache&) const;
+//   static constexpr int frame_batch;                         optional, default 1: > 1 when
+//   void frames(const Element*, const NodeMatrix* x,          frames() computes up to this many
+//               Cache*, Frame*, int count) const;             consecutive elements' frames at
+//                                                             once, faster than one by one
 //   double energy(const Element&, const Frame&, const NodeMatrix& x) const;
 //   void forces(const Element&, const Frame&, const NodeMatrix& x, NodeMatrix& f) const;
 //                                                             f = the element's nodal forces
@@ -93,6 +97,15 @@ struct KernelSymmetricTangent<Kernel, std::void_t<decltype(Kernel::symmetric_tan
     : std::bool_constant<Kernel::symmetric_tangent> {};
 template <class Kernel>
 inline constexpr bool kernel_symmetric_tangent = KernelSymmetricTangent<Kernel>::value;
+
+// Kernel::frame_batch where the kernel declares it, else 1.
+template <class Kernel, class = void>
+struct KernelFrameBatch : std::integral_constant<int, 1> {};
+template <class Kernel>
+struct KernelFrameBatch<Kernel, std::void_t<decltype(Kernel::frame_batch)>>
+    : std::integral_constant<int, Kernel::frame_batch> {};
+template <class Kernel>
+inline constexpr int kernel_frame_batch = KernelFrameBatch<Kernel>::value;
 
 // For kernels without per-configuration quantities or caches.
 struct NoFrame {};

@@ -45,6 +45,22 @@ class CorotationalKernel<Tet4> {
     const Mat3 F = x * el.G;
     return {extract_rotation(F, cache.q), F};
   }
+  // Sixteen rotations at once: their iterations run side by side (extract_rotations), which
+  // at a normal step costs about a third of sixteen separate calls.
+  static constexpr int frame_batch = 16;
+  void frames(const Element* el, const NodeMatrix* x, Cache* cache, Frame* out, int count) const {
+    Mat3 F[frame_batch], R[frame_batch];
+    Eigen::Quaterniond q[frame_batch];
+    for (int b = 0; b < count; ++b) {
+      F[b].noalias() = x[b] * el[b].G;
+      q[b] = cache[b].q;
+    }
+    extract_rotations(F, q, R, count);
+    for (int b = 0; b < count; ++b) {
+      cache[b].q = q[b];
+      out[b] = {R[b], F[b]};
+    }
+  }
   double energy(const Element& el, const Frame& fr, const NodeMatrix&) const {  // at the frame's positions
     Mat3 strain = fr.R.transpose() * fr.F;
     strain = 0.5 * (strain + strain.transpose()).eval();
