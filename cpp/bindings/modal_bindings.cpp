@@ -150,7 +150,11 @@ void bind_modal(py::module_& m) {
         if (idx) check_node_indices(idx, count, n);
         double* o = writable_nodes_buffer(out, count, "out");
         const float* f = single ? static_cast<const float*>(basis.data()) : nullptr;
-        py::gil_scoped_release release;
+        // Without a rotation only the caller's out is written: the GIL is released. A
+        // PartialRotation keeps its fit in itself and may be shared by several bodies, so its
+        // recoveries keep the GIL and run one at a time.
+        std::optional<py::gil_scoped_release> release;
+        if (!rotation) release.emplace();
         auto recover = [&](const long long* which, Index how_many, double* into) {
           if (single) recover_displacements(f, B.rows(), B.cols(), q, which, how_many, into);
           else recover_displacements(B, q, which, how_many, into);

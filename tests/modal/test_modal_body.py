@@ -6,6 +6,8 @@ constraint mode set at a tip node.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 import pytest
 
@@ -152,6 +154,52 @@ def test_bad_input_leaves_the_state(reduced):
     assert mb.time == 0.0 and mb.dt == 0.01
     with pytest.raises(AttributeError, match="view"):
         mb.q = np.zeros(mb.n_modes)
+
+
+def test_a_call_from_another_thread_while_stepping_raises_busy(reduced):
+    # The core's step is replaced by one that waits for the main thread, so the other thread
+    # is deterministically inside step() (GIL released, as the real one) when the calls come.
+    _mesh, _body, basis, tip = reduced
+    mb = ModalBody(basis)
+    inside, finish = threading.Event(), threading.Event()
+
+    class BlockingCore:
+        def __init__(self, core):
+            self._real = core
+
+        def step(self, n):
+            inside.set()
+            finish.wait(timeout=10)
+            self._real.step(n)
+
+        def __getattr__(self, name):
+            return getattr(self._real, name)
+
+    real = mb._core
+    mb._core = BlockingCore(real)
+    mb.apply_forces([tip], [0.0, 0.0, -1.0])
+    worker = threading.Thread(target=mb.step, args=(3,))
+    worker.start()
+    try:
+        assert inside.wait(timeout=10)
+        before = real.q.copy()
+        for call in (
+            lambda: mb.step(1),
+            lambda: mb.displacements(),
+            lambda: mb.set_state(q=np.zeros(mb.n_modes)),
+            lambda: mb.reset(),
+            lambda: setattr(mb, "dt", 0.02),
+        ):
+            with pytest.raises(RuntimeError, match="busy"):
+                call()
+        np.testing.assert_array_equal(real.q, before)
+        assert mb.dt == 0.01
+    finally:
+        finish.set()
+        worker.join(timeout=10)
+    assert real.time == pytest.approx(0.03)  # the worker's three steps, nothing else
+    mb.step(1)  # free again
+    assert real.time == pytest.approx(0.04)
 
 
 @pytest.mark.parametrize("element", ["tet4", "hex20"])

@@ -17,9 +17,11 @@ quadratic StVK term, B the cubic StVK term (Barbic & James 2005).
 
 from __future__ import annotations
 
+import functools
 import os
+import threading
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, Callable, ClassVar, TypeVar
 
 import numpy as np
 
@@ -38,6 +40,28 @@ if TYPE_CHECKING:
 __all__ = ["ModalBody"]
 
 _FORMAT_VERSION = 1
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _one_at_a_time(method: _F) -> _F:
+    """step() and displacements() release the GIL while the core works; a second thread that
+    steps, recovers or changes the state of the same body meanwhile gets RuntimeError instead
+    of racing it (the same rule as Simulation's "the simulation is busy")."""
+
+    @functools.wraps(method)
+    def guarded(self: ModalBody, *args: Any, **kwargs: Any) -> Any:
+        if not self._busy.acquire(blocking=False):
+            raise RuntimeError(
+                f"the modal body is busy: {method.__name__}() was called while another thread steps it or "
+                "recovers its displacements; use one thread per body, or wait for that call to return"
+            )
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            self._busy.release()
+
+    return guarded  # type: ignore[return-value]
 
 
 def _tensor(value: ArrayLike | None, shape: tuple[int, int], what: str) -> np.ndarray:
@@ -70,6 +94,10 @@ class ModalBody(SettableOnly):
 
     State: ``q``, ``modal_velocities``, ``modal_forces`` are (r,) writable views of the
     core's state; ``time`` [s]. Bad input raises ValueError and leaves the state as it was.
+
+    Threads: one call at a time per body; a call that steps, recovers or changes the state
+    while another thread's step() or displacements() runs raises RuntimeError. The views
+    (q, ...) cannot be guarded: do not write into them while another thread steps.
     """
 
     _READ_ONLY_HINTS: ClassVar[dict[str, str]] = {
@@ -100,6 +128,7 @@ class ModalBody(SettableOnly):
         if recovery not in ("float64", "float32"):
             raise ValueError(f"recovery must be 'float64' or 'float32', got {recovery!r}")
         r = basis.size
+        self._busy = threading.Lock()
         alpha, beta = (float(v) for v in rayleigh)
         self._recovery = recovery
         self._recovery_vectors = basis.vectors if recovery == "float64" else basis.vectors.astype(np.float32)
@@ -137,6 +166,7 @@ class ModalBody(SettableOnly):
         return self._partial_rotation
 
     @partial_rotation.setter
+    @_one_at_a_time
     def partial_rotation(self, value: PartialRotation | None) -> None:
         if value is not None and (not isinstance(value, PartialRotation) or value.n_nodes != self.n_nodes):
             raise ValueError(f"partial_rotation must be a PartialRotation on this body's {self.n_nodes} nodes, or None")
@@ -176,6 +206,7 @@ class ModalBody(SettableOnly):
         return float(self._core.settings[0])
 
     @dt.setter
+    @_one_at_a_time
     def dt(self, value: float) -> None:
         _, a, b = self._core.settings
         self._core.settings = (float(value), a, b)
@@ -187,6 +218,7 @@ class ModalBody(SettableOnly):
         return float(a), float(b)
 
     @rayleigh.setter
+    @_one_at_a_time
     def rayleigh(self, value: tuple[float, float]) -> None:
         alpha, beta = (float(v) for v in value)
         self._core.settings = (self.dt, alpha, beta)
@@ -196,6 +228,7 @@ class ModalBody(SettableOnly):
         """(r, r) modal stiffness at q = 0 with the current load stiffness (a new array)."""
         return np.asarray(self._core.stiffness)
 
+    @_one_at_a_time
     def set_state(self, q: ArrayLike | None = None, velocities: ArrayLike | None = None) -> None:
         """Set modal coordinates and/or velocities ((r,) finite; checked, state kept on error)."""
         q_new = None if q is None else np.asarray(q, dtype=np.float64)
@@ -210,6 +243,7 @@ class ModalBody(SettableOnly):
 
     # -- loads ---------------------------------------------------------------
 
+    @_one_at_a_time
     def apply_forces(self, nodes: ArrayLike, forces: ArrayLike) -> None:
         """Set the external modal forces to Phi^T f for nodal forces ``forces`` ((k, 3) or
         (3,) for all the nodes) on ``nodes`` (k,); replaces the previous modal forces (and
@@ -227,6 +261,7 @@ class ModalBody(SettableOnly):
         self._core.set_p(p)
         self._set_amplitudes(np.zeros(len(self._amplitudes)), update_forces=False)
 
+    @_one_at_a_time
     def set_load_cases(self, modal_loads: ArrayLike, geometric_stiffness: ArrayLike | None = None) -> None:
         """Unit load cases: (k, r) modal forces of each (Phi^T P_i) and optionally their (k, r, r)
         modal geometric stiffness (load_based_geometric_stiffness). ``load_amplitudes`` then
@@ -250,6 +285,7 @@ class ModalBody(SettableOnly):
         return self._amplitudes.copy()
 
     @load_amplitudes.setter
+    @_one_at_a_time
     def load_amplitudes(self, value: ArrayLike) -> None:
         F = np.atleast_1d(np.asarray(value, dtype=np.float64))
         if F.shape != self._amplitudes.shape or not np.all(np.isfinite(F)):
@@ -265,6 +301,7 @@ class ModalBody(SettableOnly):
 
     # -- stepping and statics ---------------------------------------------------
 
+    @_one_at_a_time
     def step(self, n: int = 1) -> None:
         """n implicit steps of dt. Raises ValueError for a non-finite state, RuntimeError when a
         step fails (the state is then as before the call)."""
@@ -272,11 +309,13 @@ class ModalBody(SettableOnly):
             raise TypeError(f"step count n must be an integer, got {type(n).__name__}")
         self._core.step(int(n))
 
+    @_one_at_a_time
     def solve_static(self, load_steps: int = 1, tolerance: float = 1e-10, max_iterations: int = 50) -> int:
         """Static equilibrium f(q) + modal_forces = 0 by Newton with load stepping from the
         current q; velocities become zero. Returns the Newton iterations taken."""
         return int(self._core.solve_static(int(load_steps), float(tolerance), int(max_iterations)))
 
+    @_one_at_a_time
     def reset(self) -> None:
         """q, velocities, modal forces and load amplitudes zero, time 0."""
         self._core.reset()
@@ -304,6 +343,7 @@ class ModalBody(SettableOnly):
 
     # -- recovery and output -----------------------------------------------------
 
+    @_one_at_a_time
     def displacements(self, nodes: ArrayLike | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """Nodal displacements Phi q: (n, 3) for all nodes, or (k, 3) for ``nodes`` (k,), turned
         by the partial rotation if one is set. With ``out`` (a float64 C-contiguous array of
