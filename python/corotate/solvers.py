@@ -20,7 +20,8 @@ class PCG:
     max_iterations  cap on CG iterations per step; the step uses what it has at the cap
     tolerance       relative residual |b - A dv| / |b| at which CG stops early
     preconditioner  "two_level" (smoothed aggregation with rigid-body modes: block-Jacobi
-                    smoothing plus a coarse correction factorized once; default),
+                    smoothing plus a coarse correction factorized once, turned with each
+                    aggregate's rotation as the body moves; default),
                     "reference_factor" (Cholesky factor of the first step's system matrix,
                     reused), "block_jacobi" (3x3 node blocks), "jacobi" or "none"
     warm_start      start each solve from the previous step's answer
@@ -46,7 +47,8 @@ class PCG:
 
 @dataclass(frozen=True)
 class Direct:
-    """Sparse direct solve (Eigen SimplicialLDLT; pattern analysed once, factorized per step)."""
+    """Sparse direct solve: Cholesky by SuiteSparse CHOLMOD when corotate was built with it,
+    else Eigen's SimplicialLDLT; the pattern is analysed (ordered) once, each step factorizes."""
 
     def _args(self) -> tuple[str, _core.PCGSettings]:
         return "direct", _core.PCGSettings()

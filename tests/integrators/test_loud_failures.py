@@ -176,24 +176,23 @@ def stvk_cloth(dt, project_psd=False, on_failure="warn"):
 
 def test_a_stvk_cloth_with_an_oversized_linearised_step_is_caught():
     # A linearised step of 1/60 s is too large for a crumpling StVK sheet. With its exact,
-    # indefinite tangent the energy grows from frame 22 and PCG meets the indefinite matrix at
-    # frame 23: an error that says so and what to do, the state restored. With PSD-projected
-    # element stiffnesses the solve stalls instead and the sheet fell to -1e7 m: the energy
-    # growth is reported while the sheet is still within a metre of its start.
+    # indefinite tangent PCG meets the indefinite matrix at frame 10: an error that says so
+    # and what to do, the state restored. (Before the two-level coarse level followed the
+    # sheet's rotation, 20 iterations saw it only at frame 23, after the energy had grown.)
     sim = stvk_cloth(1 / 60)
     seen, failure = record_until_failure(sim, 60)
-    assert seen and "energy grew by more than 1 %" in seen[0][1]
-    assert failure is not None and failure[0] >= seen[0][0]
+    assert failure is not None and failure[0] <= 30
+    assert all("energy grew by more than 1 %" in message for _, message in seen)
     assert "indefinite stiffness" in str(failure[1]) and "project_psd=True" in str(failure[1])
     assert sim.stats["steps"] == failure[0]  # the failed call took no step
 
+    # With PSD-projected element stiffnesses the system stays positive definite. That run
+    # used to stall its capped solves and fall to -1e7 m (reported as energy growth): the
+    # frozen coarse level did not follow the crumpling sheet. Now it hangs and swings,
+    # silent, within a few centimetres of a direct solve of every step (300 frames: 4 cm).
     projected = stvk_cloth(1 / 60, project_psd=True)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", cr.SimulationWarning)
-        while not projected.stats["energy_growth_steps"] and projected.stats["steps"] < 60:
-            projected.step(1)
-    assert any("energy grew by more than 1 %" in str(w.message) for w in caught)
-    assert projected.positions[:, 2].min() > -2.0
+    projected.step(60)  # a SimulationWarning would fail the test
+    assert -1.6 < projected.positions[:, 2].min() < -0.1
 
     # the cure the message names: a quarter of the step, projected: one silent second
     healthy = stvk_cloth(1 / 240, project_psd=True)

@@ -56,8 +56,9 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     in.fixed.project(rhs_);
     stats.assembly_ms = ms_since(t_start);
 
-    // dv_ still holds the previous step's answer: the warm start.
+    // dv_ still holds the previous step's answer: the warm start. A is assembled at x.
     const auto t_solve = clock::now();
+    in.solver.set_positions(in.x);
     try {
       stats.solve = in.solver.solve(system_, rhs_, dv_);
     } catch (const NotPositiveDefinite& e) {

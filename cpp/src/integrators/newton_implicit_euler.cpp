@@ -132,6 +132,7 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
     }
     in.fixed.project(system_);
     dv_.setZero();  // the Newton increment; no warm start across iterations
+    in.solver.set_positions(x_);
     SolveStats solve;
     bool solved = false;
     try {

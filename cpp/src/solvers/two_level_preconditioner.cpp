@@ -3,6 +3,8 @@
 #include <Eigen/QR>
 #include <cmath>
 
+#include "corotate/models/rotation_extraction.hpp"
+
 namespace corotate {
 
 namespace {
@@ -63,11 +65,19 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   if (rest_.cols() != n)
     throw InvalidInput("the two_level preconditioner needs the rest node positions (geometry) of the " +
                        std::to_string(n) + "-node system");
+  // Built at the configuration of A0: its rigid-body modes are those of the positions A0 was
+  // assembled at (the rest positions when none were given).
+  const Nodes& built_at = positions_.cols() == n ? positions_ : rest_;
   int m = 0;
-  const std::vector<int> agg = aggregate_nodes(A0, &m);
+  aggregate_ = aggregate_nodes(A0, &m);
+  const std::vector<int>& agg = aggregate_;
   const std::vector<char> fixed = decoupled_dofs(A0);
   std::vector<std::vector<int>> members(m);
   for (Index i = 0; i < n; ++i) members[agg[i]].push_back(static_cast<int>(i));
+  offsets_.resize(3, n);
+  rotations_.assign(m, Mat3::Identity());
+  rotation_guess_.assign(m, Eigen::Quaterniond::Identity());
+  rotated_ = false;
 
   // Tentative prolongator: per aggregate, an orthonormal basis of its rigid-body modes
   // (translations e_k, rotations w x (X - c)), with fixed DOFs left out.
@@ -76,11 +86,12 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   for (int a = 0; a < m; ++a) {
     const auto& nodes = members[a];
     Vec3 centre = Vec3::Zero();
-    for (int i : nodes) centre += rest_.col(i);
+    for (int i : nodes) centre += built_at.col(i);
     centre /= double(nodes.size());
+    for (int i : nodes) offsets_.col(i) = built_at.col(i) - centre;
     Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(3 * nodes.size(), 6);
     for (size_t k = 0; k < nodes.size(); ++k) {
-      const Vec3 d = rest_.col(nodes[k]) - centre;
+      const Vec3 d = offsets_.col(nodes[k]);
       Mat3 rot;  // columns: displacement of this node for a unit rotation about x, y, z
       rot << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
       modes.block<3, 3>(3 * k, 0).setIdentity();
@@ -134,13 +145,43 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
     throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
   residual_.resize(dofs);
   correction_.resize(dofs);
+  turned_.resize(dofs);
   coarse_rhs_.resize(coarse_dofs);
   coarse_solution_.resize(coarse_dofs);
   ready_ = true;
 }
 
+void TwoLevelPreconditioner::set_positions(const Nodes& x) {
+  positions_ = x;  // no allocation once sized
+  positions_pending_ = true;
+}
+
+void TwoLevelPreconditioner::update_rotations() {
+  const Index m = num_aggregates();
+  std::vector<Mat3>& covariance = rotations_;  // summed in place, then turned into rotations
+  for (Index a = 0; a < m; ++a) covariance[a].setZero();
+  // sum_i (x_i - c_x)(X_i - c_X)^T = sum_i x_i (X_i - c_X)^T: the offsets sum to zero.
+  for (Index i = 0; i < positions_.cols(); ++i)
+    covariance[aggregate_[i]].noalias() += positions_.col(i) * offsets_.col(i).transpose();
+  rotated_ = false;
+  for (Index a = 0; a < m; ++a) {
+    // extract_rotation keeps the previous rotation for a zero (one-node aggregate) or
+    // non-finite covariance.
+    rotations_[a] = extract_rotation(covariance[a], rotation_guess_[a]);
+    rotated_ = rotated_ || !rotations_[a].isIdentity(1e-12);
+  }
+}
+
 void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
-  if (!ready_) setup(A);
+  if (positions_.cols() != 0 && positions_.cols() != A.num_nodes())
+    throw InvalidInput("two_level preconditioner: positions of " + std::to_string(positions_.cols()) + " nodes for a " +
+                       std::to_string(A.num_nodes()) + "-node system");
+  if (!ready_) {
+    setup(A);
+  } else if (positions_pending_) {
+    update_rotations();
+  }
+  positions_pending_ = false;
   A_ = &A;
   diagonal_.compute(A);
 }
@@ -151,13 +192,25 @@ void TwoLevelPreconditioner::smooth(const Vec& r, Vec& z) {
 }
 
 void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
-  // Symmetric V(1,1): smooth, coarse-correct, smooth.
+  // Symmetric V(1,1): smooth, coarse-correct (with P(x) = R(x) P), smooth.
   smooth(r, z);
   A_->multiply(z, residual_);
   residual_ = r - residual_;
-  coarse_rhs_.noalias() = restriction_ * residual_;
+  if (rotated_) {
+    for (Index i = 0; i < A_->num_nodes(); ++i)
+      turned_.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]].transpose() * residual_.segment<3>(3 * i);
+    coarse_rhs_.noalias() = restriction_ * turned_;
+  } else {
+    coarse_rhs_.noalias() = restriction_ * residual_;
+  }
   coarse_factor_.solve(coarse_rhs_, coarse_solution_);
-  z.noalias() += prolongation_ * coarse_solution_;
+  if (rotated_) {
+    turned_.noalias() = prolongation_ * coarse_solution_;
+    for (Index i = 0; i < A_->num_nodes(); ++i)
+      z.segment<3>(3 * i).noalias() += rotations_[aggregate_[i]] * turned_.segment<3>(3 * i);
+  } else {
+    z.noalias() += prolongation_ * coarse_solution_;
+  }
   A_->multiply(z, residual_);
   residual_ = r - residual_;
   smooth(residual_, correction_);

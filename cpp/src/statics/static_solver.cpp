@@ -81,6 +81,7 @@ StaticResult solve_static(ForceModel& model, Nodes& x, const Nodes& load, const 
       fixed.project(K);
       const Vec rhs = r;
       dx.setZero();
+      solver.set_positions(x);
       bool solved = false;
       try {
         tangent_solver.solve(K, rhs, dx);

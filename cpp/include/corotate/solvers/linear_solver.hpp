@@ -33,6 +33,10 @@ class LinearSolver {
   virtual void constraints_changed(const FixedDofs&) { reset(); }
   // Rest node positions (3 x n), for solvers whose preconditioner uses the geometry.
   virtual void set_geometry(const Nodes&) {}
+  // Node positions (3 x n) the next system is assembled at (the integrators and the static
+  // solver give them before each solve), for solvers whose preconditioner follows the
+  // body's rotation.
+  virtual void set_positions(const Nodes&) {}
   // Solve A x = b. x holds the initial guess on entry (used by warm-started iterative
   // solvers) and the solution on exit.
   virtual SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) = 0;

@@ -34,6 +34,7 @@ class PCG final : public LinearSolver {
     fixed_residual_.resize(static_cast<Index>(fixed_dofs_.size()));
   }
   void set_geometry(const Nodes& rest) override { preconditioner_->set_geometry(rest); }
+  void set_positions(const Nodes& x) override { preconditioner_->set_positions(x); }
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
 
  private:

@@ -15,6 +15,9 @@ class Preconditioner {
   virtual void reset() {}
   // Rest node positions (3 x n) for preconditioners that build near-null-space modes.
   virtual void set_geometry(const Nodes&) {}
+  // Node positions (3 x n) the next system is assembled at, for preconditioners that follow
+  // the body's rotation.
+  virtual void set_positions(const Nodes&) {}
   // Called once per solve with the current system matrix.
   virtual void compute(const BlockSparseMatrix& A) = 0;
   // z = P^-1 r.

@@ -9,8 +9,22 @@
 // matrix, coarse correction with the fixed factor, smoothing again. Setup costs a few
 // sparse products instead of a fine-level factorization whose fill grows as n^(4/3) or
 // worse; an application costs three matrix-vector products' worth of work.
+//
+// Following the body's rotation. A frozen coarse level is right only near the configuration
+// it was built at: when the body turns, the rigid-body modes of the current system are the
+// turned ones, and P^T A P of the turned system is no longer the factorized coarse matrix
+// (the coarse correction then over- or under-corrects; on the armadillo hanging from a
+// point and swinging, CG to 1e-4 took 23 iterations at the start and 159 after 40 steps).
+// Given the positions each system is assembled at (set_positions), each aggregate's
+// rotation from the build configuration is found by shape matching (the polar rotation of
+// sum_i x_i (X_i - c)^T over its nodes) and the coarse correction is applied in the
+// aggregate's turned frame: P(x) = R(x) P, with R(x) the block diagonal of each node's
+// aggregate rotation. For a rigid rotation R of the whole body, A = R A0 R^T (the mass is
+// isotropic), so P(x)^T A P(x) = P^T A0 P: the frozen factor stays exact and the coarse
+// space is the current near-kernel. Cost per application: two rotations of a fine vector.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <vector>
 
@@ -27,23 +41,38 @@ class TwoLevelPreconditioner final : public Preconditioner {
     rest_ = rest;
     ready_ = false;
   }
+  // Positions (3 x n) the next system is assembled at. The hierarchy is built at the first
+  // ones it gets (the rest positions when it gets none); later ones turn its coarse level.
+  void set_positions(const Nodes& x) override;
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
   Index coarse_size() const { return coarse_.rows(); }
+  // Rotation of aggregate a from the configuration the hierarchy was built at (identity
+  // until positions arrive after the build).
+  const Mat3& aggregate_rotation(Index a) const { return rotations_[a]; }
+  Index num_aggregates() const { return static_cast<Index>(rotations_.size()); }
 
  private:
   using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
   void setup(const BlockSparseMatrix& A0);
   void smooth(const Vec& r, Vec& z);  // z = w D^-1 r (block diagonal of the current A)
+  void update_rotations();            // rotations_ from positions_ (shape matching)
 
   Nodes rest_;
+  Nodes positions_;             // the latest set_positions (empty: none given)
+  bool positions_pending_ = false;  // set_positions since the last compute
+  std::vector<int> aggregate_;  // aggregate of each node
+  Nodes offsets_;               // X_i - c (build configuration minus its aggregate's centre)
+  std::vector<Mat3> rotations_;  // per aggregate
+  std::vector<Eigen::Quaterniond> rotation_guess_;  // warm starts of the rotation extraction
+  bool rotated_ = false;        // some rotation differs from the identity
   bool ready_ = false;
   const BlockSparseMatrix* A_ = nullptr;  // current system matrix (set by compute)
   BlockJacobiPreconditioner diagonal_;
   SparseMatrix prolongation_, restriction_;  // P (3n x 6m) and P^T
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> coarse_;
   SparseCholesky coarse_factor_;  // CHOLMOD when built with it
-  Vec residual_, coarse_rhs_, coarse_solution_, correction_;
+  Vec residual_, coarse_rhs_, coarse_solution_, correction_, turned_;
   double smoothing_weight_ = 0.0;  // 4 / (3 lambda_max(D^-1 A0)): the smoother contracts
 };
 
