@@ -9,6 +9,8 @@
 namespace corotate {
 
 struct SparseCholesky::Impl {
+  Backend backend = Backend::Auto;
+  bool analysed = false;
   bool use_cholmod = false;
   Eigen::SimplicialLDLT<Matrix> ldlt;
 #ifdef COROTATE_HAVE_CHOLMOD
@@ -27,7 +29,8 @@ bool SparseCholesky::have_cholmod() {
 SparseCholesky::SparseCholesky(Backend backend) : impl_(std::make_unique<Impl>()) {
   if (backend == Backend::Cholmod && !have_cholmod())
     throw InvalidInput("CHOLMOD was asked for, but corotate was built without SuiteSparse");
-  impl_->use_cholmod = backend != Backend::Eigen && have_cholmod();
+  impl_->backend = backend;
+  impl_->use_cholmod = backend == Backend::Cholmod;
 #ifdef COROTATE_HAVE_CHOLMOD
   impl_->cholmod.cholmod().print = 0;  // no messages on stderr: an indefinite matrix is our own error
 #endif
@@ -36,9 +39,14 @@ SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
-const char* SparseCholesky::backend_name() const { return impl_->use_cholmod ? "cholmod" : "eigen"; }
+const char* SparseCholesky::backend_name() const {
+  if (impl_->backend == Backend::Auto && !impl_->analysed) return "auto";
+  return impl_->use_cholmod ? "cholmod" : "eigen";
+}
 
 void SparseCholesky::analyze(const Matrix& A) {
+  if (impl_->backend == Backend::Auto) impl_->use_cholmod = have_cholmod() && A.rows() >= kCholmodFromDofs;
+  impl_->analysed = true;
 #ifdef COROTATE_HAVE_CHOLMOD
   if (impl_->use_cholmod) return impl_->cholmod.analyzePattern(A);
 #endif

@@ -2,7 +2,10 @@
 // solver (Direct(), Newton steps, statics) and the coarse level of the two-level
 // preconditioner. SuiteSparse CHOLMOD (supernodal, with the ordering CHOLMOD picks: AMD, or
 // METIS where it pays) when the build found it (Debian: libsuitesparse-dev); Eigen's
-// SimplicialLDLT (AMD ordering) otherwise, or on request.
+// SimplicialLDLT (AMD ordering) otherwise, or on request. Auto takes CHOLMOD from
+// kCholmodFromDofs unknowns up: below, its supernodes are too small for BLAS to pay, and
+// with Debian's reference BLAS it factorized the 828-DOF Table 1 cage in 0.92 ms against
+// 0.48 ms for SimplicialLDLT (4,557 DOFs: 68 against 81 ms; 9,963: 331 against 514 ms).
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -17,6 +20,7 @@ class SparseCholesky {
   enum class Backend { Auto, Eigen, Cholmod };  // Auto: CHOLMOD when built with it
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
+  static constexpr Index kCholmodFromDofs = 4000;
   static bool have_cholmod();
   // Backend::Cholmod in a build without CHOLMOD throws InvalidInput.
   explicit SparseCholesky(Backend backend = Backend::Auto);
@@ -24,9 +28,11 @@ class SparseCholesky {
   SparseCholesky(SparseCholesky&&) noexcept;
   SparseCholesky& operator=(SparseCholesky&&) noexcept;
 
-  const char* backend_name() const;  // "cholmod" or "eigen"
+  // "cholmod" or "eigen": the backend of the last analysis, or the one asked for; "auto"
+  // before Auto has seen a matrix.
+  const char* backend_name() const;
   // Symbolic analysis of A's pattern (full symmetric storage); factorize() reuses it as long
-  // as the pattern stays the same.
+  // as the pattern stays the same. Auto picks the backend here, by A's size.
   void analyze(const Matrix& A);
   // Numeric factorization; false when A is not positive definite.
   bool factorize(const Matrix& A);
