@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "corotate/models/rotation_extraction.hpp"
+#include "corotate/parallel.hpp"
 
 namespace corotate {
 
@@ -196,8 +197,10 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   smooth(r, z);
   A_->multiply(z, residual_);
   residual_ = r - residual_;
+  const Index n = A_->num_nodes();
   if (rotated_) {
-    for (Index i = 0; i < A_->num_nodes(); ++i)
+    COROTATE_PARALLEL_FOR(n >= 512)
+    for (Index i = 0; i < n; ++i)
       turned_.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]].transpose() * residual_.segment<3>(3 * i);
     coarse_rhs_.noalias() = restriction_ * turned_;
   } else {
@@ -206,7 +209,8 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   coarse_factor_.solve(coarse_rhs_, coarse_solution_);
   if (rotated_) {
     turned_.noalias() = prolongation_ * coarse_solution_;
-    for (Index i = 0; i < A_->num_nodes(); ++i)
+    COROTATE_PARALLEL_FOR(n >= 512)
+    for (Index i = 0; i < n; ++i)
       z.segment<3>(3 * i).noalias() += rotations_[aggregate_[i]] * turned_.segment<3>(3 * i);
   } else {
     z.noalias() += prolongation_ * coarse_solution_;
