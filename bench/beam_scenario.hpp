@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "corotate/common.hpp"
+#include "corotate/elements/hex8.hpp"
 
 namespace corotate::bench {
 
@@ -60,8 +61,7 @@ inline TetMesh structured_hex_beam(int nx, int ny, int nz, double lx, double ly,
   for (int i = 0; i < nx; ++i)
     for (int j = 0; j < ny; ++j)
       for (int k = 0; k < nz; ++k, ++e) {
-        const int corner[8] = {id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
-                               id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+        const std::array<int, 8> corner = Hex8::grid_cube(id, i, j, k);
         for (int a = 0; a < 8; ++a) m.cells(e, a) = corner[a];
       }
   return m;

@@ -25,6 +25,7 @@
 #include "feedback_scenario.hpp"
 #include "grab_scenario.hpp"
 #include "mass_spring_scenario.hpp"
+#include "rotation_scenario.hpp"
 
 using namespace corotate;
 using clock_type = std::chrono::steady_clock;
@@ -219,6 +220,9 @@ void usage() {
       "  --scenario grab [--sizes 2,4] [--mesh FILE] [--stiffness K]\n"
       "                      (first option) frame times after grabbing and releasing a node (attach\n"
       "                      vs fix); see bench/grab_scenario.hpp\n"
+      "  --scenario rotations [--elements N] [--turn RAD]\n"
+      "                      (first option) the element sweep's polar rotations alone, one\n"
+      "                      call per element vs batched; see bench/rotation_scenario.hpp\n"
       "Each mesh first runs 'reference' (two-level PCG to 1e-10) so deviations are measured honestly.");
 }
 
@@ -233,9 +237,10 @@ int main(int argc, char** argv) {
       if (std::string(argv[2]) == "feedback") return bench::feedback_main(argc - 3, argv + 3);
       if (std::string(argv[2]) == "embedding") return bench::embedding_main(argc - 3, argv + 3);
       if (std::string(argv[2]) == "grab") return bench::grab_main(argc - 3, argv + 3);
+      if (std::string(argv[2]) == "rotations") return bench::rotations_main(argc - 3, argv + 3);
       if (std::string(argv[2]) != "beam")
         throw InvalidInput(std::string("unknown scenario ") + argv[2] +
-                           " (beam, mass_spring, feedback, embedding, grab)");
+                           " (beam, mass_spring, feedback, embedding, grab, rotations)");
       argc -= 2, argv += 2;
     }
     for (int a = 1; a < argc; ++a) {

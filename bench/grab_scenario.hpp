@@ -54,7 +54,7 @@ inline GrabResult run_grab(const TetMesh& mesh, const std::string& mode, double 
   settings.time_step = dt;
   Simulation sim(make_model("corotational", "tetra", mesh.points, mesh.cells, Material{1e7, 0.3, 1000.0}), settings,
                  std::make_unique<PCG>());
-  const double x_min = mesh.points.row(0).minCoeff(), x_max = mesh.points.row(0).maxCoeff();
+  const double x_min = mesh.points.row(0).minCoeff();
   std::vector<Index> clamped;
   Index grabbed = 0;
   for (Index i = 0; i < mesh.points.cols(); ++i) {

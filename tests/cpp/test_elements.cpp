@@ -1,5 +1,6 @@
 // Element matrices of Tet4, Hex8 and Hex20: rigid motions cost no energy, a uniform strain
 // costs exactly V e^T H e, the mass sums to rho V.
+#include <array>
 #include <cmath>
 #include <type_traits>
 
@@ -157,4 +158,15 @@ TEST(inverted_and_degenerate_elements_are_rejected) {
   Eigen::Matrix<double, 3, 4> flat = X;
   flat(2, 3) = 0;  // all four nodes in z = 0
   CHECK_THROWS(compute_element_matrices<Tet4>(flat, material, 7), InvalidInput);
+}
+
+// Hex8::grid_cube: on a grid with node (i, j, k) at (i, j, k) and any numbering, node a of
+// cube (i, j, k) sits at the cube's centre plus half of the reference node a.
+TEST(hex8_grid_cube_follows_the_reference_node_order) {
+  const int n = 4;
+  auto id = [&](int i, int j, int k) { return (k * n + j) * n + i; };
+  auto position = [&](int v) { return Vec3(v % n, (v / n) % n, v / (n * n)); };
+  const std::array<int, 8> cube = Hex8::grid_cube(id, 1, 2, 0);
+  for (int a = 0; a < 8; ++a)
+    CHECK_NEAR((position(cube[a]) - (Vec3(1.5, 2.5, 0.5) + 0.5 * Hex8::node(a))).norm(), 0.0, 0.0);
 }

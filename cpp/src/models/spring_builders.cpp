@@ -1,5 +1,6 @@
 #include "corotate/models/spring_builders.hpp"
 
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -146,10 +147,9 @@ SpringSystem cube_lattice(const LatticeSettings& s) {
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i, ++c) {
-        const int h[8] = {id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
-                          id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+        const std::array<int, 8> h = Hex8::grid_cube(id, i, j, k);
         for (int a = 0; a < 8; ++a) out.cells(c, a) = h[a];
-        add_hex(h, hx * hy * hz, s.youngs_modulus, s.density, true, acc, out.masses);
+        add_hex(h.data(), hx * hy * hz, s.youngs_modulus, s.density, true, acc, out.masses);
       }
   acc.finish(s.beta, out);
   out.cell_type = "hexahedron";

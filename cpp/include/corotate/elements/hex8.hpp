@@ -2,6 +2,8 @@
 // nodes 0..3 on the bottom face (zeta = -1) counter-clockwise from (-1, -1), 4..7 above them.
 #pragma once
 
+#include <array>
+
 #include "corotate/elements/quadrature.hpp"
 
 namespace corotate {
@@ -18,6 +20,17 @@ struct Hex8 {
     static const double s[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                    {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
     return Vec3(s[a][0], s[a][1], s[a][2]);
+  }
+  // The node indices, in this ordering, of the cube (i, j, k) of a structured grid whose
+  // node (i, j, k) is id(i, j, k): node a sits at the corner offset by node(a)'s signs.
+  template <class Id>
+  static std::array<int, num_nodes> grid_cube(const Id& id, int i, int j, int k) {
+    std::array<int, num_nodes> nodes;
+    for (int a = 0; a < num_nodes; ++a) {
+      const Vec3 s = node(a);
+      nodes[a] = id(i + (s.x() > 0), j + (s.y() > 0), k + (s.z() > 0));
+    }
+    return nodes;
   }
   static ShapeValues shape(const Vec3& xi) {
     ShapeValues n;
