@@ -94,7 +94,8 @@ PYBIND11_MODULE(_core, m) {
       .value("JACOBI", PreconditionerKind::Jacobi)
       .value("BLOCK_JACOBI", PreconditionerKind::BlockJacobi)
       .value("REFERENCE_FACTOR", PreconditionerKind::ReferenceFactor)
-      .value("TWO_LEVEL", PreconditionerKind::TwoLevel);
+      .value("TWO_LEVEL", PreconditionerKind::TwoLevel)
+      .value("AUTO", PreconditionerKind::Auto);
   m.def("model_names", &model_names, "Every force model name.");
   m.def("cell_type_names", &cell_type_names, "Every supported cell type (meshio names).");
   m.def("models_for_cell_type", &models_for_cell_type, py::arg("cell_type"), "The models available for a cell type.");

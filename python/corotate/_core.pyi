@@ -20,7 +20,10 @@ class PreconditionerKind:
       REFERENCE_FACTOR
     
       TWO_LEVEL
+    
+      AUTO
     """
+    AUTO: typing.ClassVar[PreconditionerKind]
     BLOCK_JACOBI: typing.ClassVar[PreconditionerKind]
     JACOBI: typing.ClassVar[PreconditionerKind]
     NONE: typing.ClassVar[PreconditionerKind]
@@ -123,7 +126,7 @@ class BlockSparseMatrix:
     def to_csr(self) -> tuple:
         ...
 class PCGSettings:
-    def __init__(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 20, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.01, warm_start: bool = True, preconditioner: str = 'two_level') -> None:
+    def __init__(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 20, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.01, warm_start: bool = True, preconditioner: str = 'auto') -> None:
         """
         Settings of the capped PCG solver; the defaults are corotate's default solver.
         """

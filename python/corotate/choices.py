@@ -10,7 +10,7 @@ import corotate._core as _core
 
 ModelName = Literal["linear", "corotational", "stvk", "neohookean", "fixed_corotated", "neohookean_log"]
 CellType = Literal["tetra", "hexahedron", "hexahedron20", "triangle"]
-PreconditionerName = Literal["none", "jacobi", "block_jacobi", "reference_factor", "two_level"]
+PreconditionerName = Literal["none", "jacobi", "block_jacobi", "reference_factor", "two_level", "auto"]
 ImplicitIntegratorName = Literal["linearized", "newton"]
 ExplicitIntegratorName = Literal["symplectic_euler", "verlet"]
 TimeStepPolicyName = Literal["fixed", "online"]

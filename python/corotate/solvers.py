@@ -19,11 +19,15 @@ class PCG:
 
     max_iterations  cap on CG iterations per step; the step uses what it has at the cap
     tolerance       relative residual |b - A dv| / |b| at which CG stops early
-    preconditioner  "two_level" (smoothed aggregation with rigid-body modes: block-Jacobi
+    preconditioner  "auto" (default): "reference_factor" below 6,000 unknowns, "two_level"
+                    from there on, chosen at the first step;
+                    "two_level" (smoothed aggregation with rigid-body modes: block-Jacobi
                     smoothing plus a coarse correction factorized once, turned with each
-                    aggregate's rotation as the body moves; default),
+                    aggregate's rotation as the body moves),
                     "reference_factor" (Cholesky factor of the first step's system matrix,
-                    reused), "block_jacobi" (3x3 node blocks), "jacobi" or "none"
+                    reused, applied in each aggregate's turned frame, factorized afresh
+                    after a solve that ends at the cap), "block_jacobi" (3x3 node blocks),
+                    "jacobi" or "none"
     warm_start      start each solve from the previous step's answer
 
     The defaults are the fastest setting found to stay within 1% of a converged solve on

@@ -35,8 +35,47 @@ void BlockJacobiPreconditioner::apply(const Vec& r, Vec& z) {
   for (Index i = 0; i < n; ++i) z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
 }
 
+void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
+  if (positions_.cols() != 0 && positions_.cols() != A.num_nodes())
+    throw InvalidInput("reference_factor preconditioner: positions of " + std::to_string(positions_.cols()) +
+                       " nodes for a " + std::to_string(A.num_nodes()) + "-node system");
+  if (factor_.empty() || refresh_) {
+    refresh_ = false;
+    factor_ = BlockCholesky();
+    factor_.factorize(A);  // throws NotPositiveDefinite for an indefinite matrix
+    ++factorizations_;
+    // Built at the positions A was assembled at: rotations are measured from there.
+    if (positions_.cols() != 0) rotations_.build(A, positions_);
+    turned_.resize(A.num_dofs());
+  } else if (positions_pending_ && !rotations_.empty()) {
+    rotations_.update(positions_);
+  }
+  positions_pending_ = false;
+}
+
+void ReferenceFactorPreconditioner::apply(const Vec& r, Vec& z) {
+  if (!rotations_.rotated()) {
+    factor_.solve(r, z);
+    return;
+  }
+  rotations_.to_built_frame(r, turned_);
+  factor_.solve(turned_, z);
+  rotations_.from_built_frame(z, z);
+}
+
+void AutoPreconditioner::compute(const BlockSparseMatrix& A) {
+  if (!chosen_) {
+    kind_ = A.num_dofs() < kAutoFactorDofs ? PreconditionerKind::ReferenceFactor : PreconditionerKind::TwoLevel;
+    chosen_ = make_preconditioner(kind_);
+    if (rest_.cols() != 0) chosen_->set_geometry(rest_);
+    if (positions_.cols() != 0) chosen_->set_positions(positions_);
+  }
+  chosen_->compute(A);
+}
+
 const std::vector<std::string>& preconditioner_names() {
-  static const std::vector<std::string> names = {"none", "jacobi", "block_jacobi", "reference_factor", "two_level"};
+  static const std::vector<std::string> names = {"none",      "jacobi", "block_jacobi", "reference_factor",
+                                                 "two_level", "auto"};
   return names;
 }
 
@@ -45,7 +84,7 @@ PreconditionerKind preconditioner_kind_from_name(const std::string& name) {
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<PreconditionerKind>(i);
   throw InvalidInput("unknown preconditioner '" + name +
-                     "' (choose none, jacobi, block_jacobi, reference_factor or two_level)");
+                     "' (choose none, jacobi, block_jacobi, reference_factor, two_level or auto)");
 }
 
 const char* preconditioner_name(PreconditionerKind kind) {
@@ -59,6 +98,7 @@ std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
     case PreconditionerKind::BlockJacobi: return std::make_unique<BlockJacobiPreconditioner>();
     case PreconditionerKind::ReferenceFactor: return std::make_unique<ReferenceFactorPreconditioner>();
     case PreconditionerKind::TwoLevel: return std::make_unique<TwoLevelPreconditioner>();
+    case PreconditionerKind::Auto: return std::make_unique<AutoPreconditioner>();
   }
   throw InvalidInput("unknown preconditioner kind");
 }

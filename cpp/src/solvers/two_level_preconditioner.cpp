@@ -5,41 +5,13 @@
 
 #include "corotate/models/rotation_extraction.hpp"
 #include "corotate/parallel.hpp"
+#include "corotate/solvers/aggregate_rotations.hpp"
 
 namespace corotate {
 
 namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double, int>>;
-
-// Greedy aggregation of the node graph: a node whose neighbours are all free starts an
-// aggregate with them; leftovers join a neighbouring aggregate. Returns aggregate per node.
-std::vector<int> aggregate_nodes(const BlockSparseMatrix& A, int* count) {
-  const Index n = A.num_nodes();
-  const auto& start = A.row_start();
-  const auto& cols = A.columns();
-  std::vector<int> agg(n, -1);
-  int m = 0;
-  for (Index i = 0; i < n; ++i) {
-    if (agg[i] >= 0) continue;
-    bool free = true;
-    for (int k = start[i]; k < start[i + 1] && free; ++k) free = agg[cols[k]] < 0;
-    if (!free) continue;
-    for (int k = start[i]; k < start[i + 1]; ++k) agg[cols[k]] = m;
-    ++m;
-  }
-  for (Index i = 0; i < n; ++i) {
-    if (agg[i] >= 0) continue;
-    for (int k = start[i]; k < start[i + 1]; ++k)
-      if (agg[cols[k]] >= 0 && cols[k] != i) {
-        agg[i] = agg[cols[k]];
-        break;
-      }
-    if (agg[i] < 0) agg[i] = m++;  // isolated node
-  }
-  *count = m;
-  return agg;
-}
 
 // DOFs that a FixedDofs projection decoupled: unit diagonal, nothing else in the row.
 std::vector<char> decoupled_dofs(const BlockSparseMatrix& A) {

@@ -15,7 +15,7 @@ struct PCGSettings {
   int max_iterations = 20;   // cap; the solve stops there even when not converged
   double tolerance = 1e-2;   // relative residual |b - A x| / |b|
   bool warm_start = true;    // start from the x passed in (e.g. the previous step's answer)
-  PreconditionerKind preconditioner = PreconditionerKind::TwoLevel;
+  PreconditionerKind preconditioner = PreconditionerKind::Auto;
   void validate() const;     // throws InvalidInput naming the parameter
 };
 

@@ -1,0 +1,95 @@
+#include "corotate/solvers/aggregate_rotations.hpp"
+
+#include "corotate/models/rotation_extraction.hpp"
+#include "corotate/parallel.hpp"
+
+namespace corotate {
+
+std::vector<int> aggregate_nodes(const BlockSparseMatrix& pattern, int* count) {
+  const Index n = pattern.num_nodes();
+  const auto& start = pattern.row_start();
+  const auto& cols = pattern.columns();
+  std::vector<int> agg(n, -1);
+  int m = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (agg[i] >= 0) continue;
+    bool free = true;
+    for (int k = start[i]; k < start[i + 1] && free; ++k) free = agg[cols[k]] < 0;
+    if (!free) continue;
+    for (int k = start[i]; k < start[i + 1]; ++k) agg[cols[k]] = m;
+    ++m;
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (agg[i] >= 0) continue;
+    for (int k = start[i]; k < start[i + 1]; ++k)
+      if (agg[cols[k]] >= 0 && cols[k] != i) {
+        agg[i] = agg[cols[k]];
+        break;
+      }
+    if (agg[i] < 0) agg[i] = m++;  // isolated node
+  }
+  *count = m;
+  return agg;
+}
+
+void AggregateRotations::build(const BlockSparseMatrix& pattern, const Nodes& built_at) {
+  const Index n = pattern.num_nodes();
+  if (built_at.cols() != n)
+    throw InvalidInput("aggregate rotations: positions of " + std::to_string(built_at.cols()) + " nodes for a " +
+                       std::to_string(n) + "-node system");
+  int m = 0;
+  aggregate_ = aggregate_nodes(pattern, &m);
+  std::vector<Vec3> centre(m, Vec3::Zero());
+  std::vector<int> size(m, 0);
+  for (Index i = 0; i < n; ++i) {
+    centre[aggregate_[i]] += built_at.col(i);
+    ++size[aggregate_[i]];
+  }
+  offsets_.resize(3, n);
+  for (Index i = 0; i < n; ++i) offsets_.col(i) = built_at.col(i) - centre[aggregate_[i]] / double(size[aggregate_[i]]);
+  rotations_.assign(m, Mat3::Identity());
+  covariance_.assign(m, Mat3::Zero());
+  rotation_guess_.assign(m, Eigen::Quaterniond::Identity());
+  rotated_ = false;
+}
+
+void AggregateRotations::update(const Nodes& x) {
+  const Index m = num_aggregates();
+  if (x.cols() != offsets_.cols())
+    throw InvalidInput("aggregate rotations: positions of " + std::to_string(x.cols()) + " nodes for a " +
+                       std::to_string(offsets_.cols()) + "-node system");
+  for (Index a = 0; a < m; ++a) covariance_[a].setZero();
+  // sum_i (x_i - c_x)(X_i - c_X)^T = sum_i x_i (X_i - c_X)^T: the offsets sum to zero.
+  for (Index i = 0; i < x.cols(); ++i) covariance_[aggregate_[i]].noalias() += x.col(i) * offsets_.col(i).transpose();
+  rotated_ = false;
+  for (Index a = 0; a < m; ++a) {
+    rotations_[a] = extract_rotation(covariance_[a], rotation_guess_[a]);
+    rotated_ = rotated_ || !rotations_[a].isIdentity(1e-12);
+  }
+}
+
+void AggregateRotations::to_built_frame(const Vec& v, Vec& out) const {
+  const Index n = static_cast<Index>(aggregate_.size());
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) {
+    const Vec3 vi = v.segment<3>(3 * i);
+    out.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]].transpose() * vi;
+  }
+}
+
+void AggregateRotations::from_built_frame(const Vec& v, Vec& out) const {
+  const Index n = static_cast<Index>(aggregate_.size());
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) {
+    const Vec3 vi = v.segment<3>(3 * i);
+    out.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]] * vi;
+  }
+}
+
+void AggregateRotations::add_from_built_frame(const Vec& v, Vec& out) const {
+  const Index n = static_cast<Index>(aggregate_.size());
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) out.segment<3>(3 * i).noalias() += rotations_[aggregate_[i]] * v.segment<3>(3 * i);
+}
+
+}  // namespace corotate
