@@ -56,6 +56,7 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   // (translations e_k, rotations w x (X - c)), with fixed DOFs left out.
   Triplets t;
   int coarse_dofs = 0;
+  std::vector<int> coarse_start(1, 0);  // first coarse DOF of each aggregate
   for (int a = 0; a < m; ++a) {
     const auto& nodes = members[a];
     Vec3 centre = Vec3::Zero();
@@ -75,13 +76,17 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(modes);
     qr.setThreshold(1e-10);
     const Index rank = qr.rank();
-    if (rank == 0) continue;  // a fully fixed aggregate has no coarse DOFs
+    if (rank == 0) {  // a fully fixed aggregate has no coarse DOFs
+      coarse_start.push_back(coarse_dofs);
+      continue;
+    }
     const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(modes.rows(), rank);
     for (size_t k = 0; k < nodes.size(); ++k)
       for (int r = 0; r < 3; ++r)
         if (!fixed[3 * nodes[k] + r])
           for (Index c = 0; c < rank; ++c) t.emplace_back(3 * nodes[k] + r, coarse_dofs + int(c), Q(3 * k + r, c));
     coarse_dofs += int(rank);
+    coarse_start.push_back(coarse_dofs);
   }
   SparseMatrix tentative(dofs, coarse_dofs);
   tentative.setFromTriplets(t.begin(), t.end());
@@ -113,10 +118,11 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   }
   smoothing_weight_ = 4.0 / (3.0 * lambda);
 
-  prolongation_ = tentative - smoothing_weight_ * (inverse_diagonal * (A * tentative));
-  prolongation_.prune(0.0);
-  restriction_ = prolongation_.transpose();
-  coarse_ = Eigen::SparseMatrix<double, Eigen::ColMajor, int>(restriction_ * (A * prolongation_));
+  SparseMatrix prolongation = tentative - smoothing_weight_ * (inverse_diagonal * (A * tentative));
+  prolongation.prune(0.0);
+  const SparseMatrix restriction = prolongation.transpose();
+  coarse_ = Eigen::SparseMatrix<double, Eigen::ColMajor, int>(restriction * (A * prolongation));
+  prolongator_ = BlockProlongator(prolongation, coarse_start);
   coarse_factor_.analyze(coarse_);
   if (!coarse_factor_.factorize(coarse_))
     throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
@@ -178,18 +184,18 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
     COROTATE_PARALLEL_FOR(n >= 512)
     for (Index i = 0; i < n; ++i)
       turned_.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]].transpose() * residual_.segment<3>(3 * i);
-    coarse_rhs_.noalias() = restriction_ * turned_;
+    prolongator_.restrict_to(turned_, coarse_rhs_);
   } else {
-    coarse_rhs_.noalias() = restriction_ * residual_;
+    prolongator_.restrict_to(residual_, coarse_rhs_);
   }
   coarse_factor_.solve(coarse_rhs_, coarse_solution_);
   if (rotated_) {
-    turned_.noalias() = prolongation_ * coarse_solution_;
+    prolongator_.prolong(coarse_solution_, turned_, false);
     COROTATE_PARALLEL_FOR(n >= 512)
     for (Index i = 0; i < n; ++i)
       z.segment<3>(3 * i).noalias() += rotations_[aggregate_[i]] * turned_.segment<3>(3 * i);
   } else {
-    z.noalias() += prolongation_ * coarse_solution_;
+    prolongator_.prolong(coarse_solution_, z, true);
   }
   A_->multiply(z, residual_);
   residual_ = r - residual_;

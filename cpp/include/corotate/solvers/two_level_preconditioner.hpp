@@ -28,6 +28,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "corotate/solvers/block_prolongator.hpp"
 #include "corotate/solvers/preconditioner.hpp"
 #include "corotate/solvers/sparse_cholesky.hpp"
 
@@ -69,7 +70,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   bool ready_ = false;
   const BlockSparseMatrix* A_ = nullptr;  // current system matrix (set by compute)
   BlockJacobiPreconditioner diagonal_;
-  SparseMatrix prolongation_, restriction_;  // P (3n x 6m) and P^T
+  BlockProlongator prolongator_;  // P (3n x at most 6m) for P c and P^T r
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> coarse_;
   SparseCholesky coarse_factor_;  // CHOLMOD when built with it
   Vec residual_, coarse_rhs_, coarse_solution_, correction_, turned_;

@@ -1,0 +1,50 @@
+// The prolongator P of the two-level preconditioner in node x aggregate blocks, one stored
+// copy for both of its products, P c and P^T r.
+//
+// P maps each aggregate's (at most) six rigid-body coefficients to the three displacements
+// of every node it reaches, so it is made of 3 x 6 blocks: one per (node, aggregate) pair,
+// stored node by node with one aggregate index per block. Against two scalar CSR copies (P
+// and P^T, a column index per entry) this reads one index per 18 values and half the
+// storage. P c runs over nodes (each thread writes its own nodes); P^T r runs over
+// aggregates, each gathering its blocks through a list built once, so both are the same sum
+// in the same order on any number of threads.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "corotate/common.hpp"
+
+namespace corotate {
+
+class BlockProlongator {
+ public:
+  using ScalarMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+  BlockProlongator() = default;
+  // P: 3 num_nodes x coarse DOFs; coarse_start: first coarse DOF of each aggregate
+  // (num_aggregates + 1 entries, at most 6 DOFs each). Every entry of P must lie in a
+  // column of some aggregate (InvalidInput otherwise).
+  BlockProlongator(const ScalarMatrix& P, const std::vector<int>& coarse_start);
+
+  Index num_nodes() const { return static_cast<Index>(node_start_.size()) - 1; }
+  Index num_aggregates() const { return static_cast<Index>(coarse_start_.size()) - 1; }
+  Index num_blocks() const { return static_cast<Index>(block_aggregate_.size()); }
+  Index coarse_size() const { return coarse_start_.empty() ? 0 : coarse_start_.back(); }
+
+  // fine = P coarse, or fine += P coarse when add. No allocation after the first call.
+  void prolong(const Vec& coarse, Vec& fine, bool add);
+  // coarse = P^T fine.
+  void restrict_to(const Vec& fine, Vec& coarse);
+
+ private:
+  std::vector<int> coarse_start_;     // per aggregate, + 1
+  std::vector<int> node_start_;       // first block of each node, + 1
+  std::vector<int> block_aggregate_;  // aggregate of each block
+  std::vector<double> values_;        // 18 per block: the 3 x 6 block, row-major
+  std::vector<int> aggregate_start_;  // first entry of each aggregate in the lists below, + 1
+  std::vector<int> aggregate_block_, aggregate_node_;  // its blocks and their nodes
+  Vec padded_;                        // coarse vector with six entries per aggregate
+};
+
+}  // namespace corotate

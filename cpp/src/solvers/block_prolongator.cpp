@@ -1,0 +1,104 @@
+#include "corotate/solvers/block_prolongator.hpp"
+
+#include <algorithm>
+
+#include "corotate/parallel.hpp"
+
+namespace corotate {
+
+BlockProlongator::BlockProlongator(const ScalarMatrix& P, const std::vector<int>& coarse_start)
+    : coarse_start_(coarse_start) {
+  if (P.rows() % 3 != 0) throw InvalidInput("BlockProlongator: the fine size is not a multiple of 3");
+  if (coarse_start.empty() || coarse_start.front() != 0 || coarse_start.back() != P.cols())
+    throw InvalidInput("BlockProlongator: the aggregates' coarse DOFs do not cover P's columns");
+  const Index n = P.rows() / 3, m = num_aggregates();
+  std::vector<int> aggregate_of(P.cols());
+  for (Index a = 0; a < m; ++a) {
+    if (coarse_start[a + 1] < coarse_start[a] || coarse_start[a + 1] - coarse_start[a] > 6)
+      throw InvalidInput("BlockProlongator: an aggregate has more than 6 coarse DOFs");
+    std::fill(aggregate_of.begin() + coarse_start[a], aggregate_of.begin() + coarse_start[a + 1], int(a));
+  }
+  node_start_.assign(1, 0);
+  std::vector<int> row_aggregates;
+  for (Index i = 0; i < n; ++i) {
+    row_aggregates.clear();
+    for (int r = 0; r < 3; ++r)
+      for (ScalarMatrix::InnerIterator it(P, 3 * i + r); it; ++it) row_aggregates.push_back(aggregate_of[it.col()]);
+    std::sort(row_aggregates.begin(), row_aggregates.end());
+    row_aggregates.erase(std::unique(row_aggregates.begin(), row_aggregates.end()), row_aggregates.end());
+    const size_t first = block_aggregate_.size();
+    block_aggregate_.insert(block_aggregate_.end(), row_aggregates.begin(), row_aggregates.end());
+    values_.resize(18 * block_aggregate_.size(), 0.0);
+    for (int r = 0; r < 3; ++r)
+      for (ScalarMatrix::InnerIterator it(P, 3 * i + r); it; ++it) {
+        const int a = aggregate_of[it.col()];
+        const size_t k =
+            first + (std::lower_bound(row_aggregates.begin(), row_aggregates.end(), a) - row_aggregates.begin());
+        values_[18 * k + 6 * r + (it.col() - coarse_start[a])] = it.value();
+      }
+    node_start_.push_back(static_cast<int>(block_aggregate_.size()));
+  }
+  // Per aggregate, its blocks in node order (a counting sort of the blocks by aggregate).
+  aggregate_start_.assign(m + 1, 0);
+  for (int a : block_aggregate_) ++aggregate_start_[a + 1];
+  for (Index a = 0; a < m; ++a) aggregate_start_[a + 1] += aggregate_start_[a];
+  aggregate_block_.resize(block_aggregate_.size());
+  aggregate_node_.resize(block_aggregate_.size());
+  std::vector<int> next(aggregate_start_.begin(), aggregate_start_.end() - 1);
+  for (Index i = 0; i < n; ++i)
+    for (int k = node_start_[i]; k < node_start_[i + 1]; ++k) {
+      const int slot = next[block_aggregate_[k]]++;
+      aggregate_block_[slot] = k;
+      aggregate_node_[slot] = static_cast<int>(i);
+    }
+  padded_.setZero(6 * m);
+}
+
+void BlockProlongator::prolong(const Vec& coarse, Vec& fine, bool add) {
+  const Index n = num_nodes(), m = num_aggregates();
+  for (Index a = 0; a < m; ++a)
+    for (int q = 0; q < 6; ++q)
+      padded_[6 * a + q] = q < coarse_start_[a + 1] - coarse_start_[a] ? coarse[coarse_start_[a] + q] : 0.0;
+  fine.resize(3 * n);
+  const double* c = padded_.data();
+  const double* val = values_.data();
+  double* y = fine.data();
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) {
+    double y0 = add ? y[3 * i] : 0.0, y1 = add ? y[3 * i + 1] : 0.0, y2 = add ? y[3 * i + 2] : 0.0;
+    for (int k = node_start_[i]; k < node_start_[i + 1]; ++k) {
+      const double* b = val + 18 * k;
+      const double* ca = c + 6 * block_aggregate_[k];
+      for (int q = 0; q < 6; ++q) {
+        y0 += b[q] * ca[q];
+        y1 += b[6 + q] * ca[q];
+        y2 += b[12 + q] * ca[q];
+      }
+    }
+    y[3 * i] = y0;
+    y[3 * i + 1] = y1;
+    y[3 * i + 2] = y2;
+  }
+}
+
+void BlockProlongator::restrict_to(const Vec& fine, Vec& coarse) {
+  const Index m = num_aggregates();
+  const double* r = fine.data();
+  const double* val = values_.data();
+  double* c = padded_.data();
+  COROTATE_PARALLEL_FOR(m >= 64)
+  for (Index a = 0; a < m; ++a) {
+    double ca[6] = {0, 0, 0, 0, 0, 0};
+    for (int s = aggregate_start_[a]; s < aggregate_start_[a + 1]; ++s) {
+      const double* b = val + 18 * aggregate_block_[s];
+      const double* ri = r + 3 * aggregate_node_[s];
+      for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
+    }
+    for (int q = 0; q < 6; ++q) c[6 * a + q] = ca[q];
+  }
+  coarse.resize(coarse_size());
+  for (Index a = 0; a < m; ++a)
+    for (int q = 0; q < coarse_start_[a + 1] - coarse_start_[a]; ++q) coarse[coarse_start_[a] + q] = padded_[6 * a + q];
+}
+
+}  // namespace corotate
