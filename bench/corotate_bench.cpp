@@ -293,9 +293,9 @@ int main(int argc, char** argv) {
         "scenario: corotational %s, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
         opt.hex ? "Hex8" : "tets", opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
         opt.checks ? "loud-failure checks" : "no checks", num_threads());
-    std::printf("direct solver (config 'direct'): %s; two-level coarse solver: %s (auto: CHOLMOD%s from %ld DOFs)\n",
-                DirectSolver(opt.direct).backend_name(), DirectSolver().backend_name(),
-                SparseCholesky::have_cholmod() ? "" : " (not built)", long(SparseCholesky::kCholmodFromDofs));
+    std::printf("direct solver (config 'direct'): %s (auto: CHOLMOD%s from %ld DOFs); two-level coarse solver: %s\n",
+                DirectSolver(opt.direct).backend_name(), SparseCholesky::have_cholmod() ? "" : " (not built)",
+                long(SparseCholesky::kCholmodFromDofs), SparseCholesky::have_cholmod() ? "cholmod" : "eigen");
     std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s %s\n", "mesh", "elems", "config", "precmp_ms",
                 "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]",
                 "stalled/growth  B/elem");

@@ -1,6 +1,6 @@
 // The direct solver's two backends, SuiteSparse CHOLMOD (when the build found it) and Eigen's
-// SimplicialLDLT, solve the same systems to round-off, and both refuse an indefinite one;
-// Auto picks by size.
+// SimplicialLDLT, solve the same systems to round-off (CHOLMOD's supernodal factor through
+// our own triangular sweeps), and both refuse an indefinite one; Auto picks by size.
 #include <cstdio>
 
 #include "corotate/solvers/direct_solver.hpp"
@@ -52,6 +52,14 @@ TEST(cholmod_and_eigen_direct_solves_agree) {
     CHECK((x_cholmod - dense).norm() <= 1e-12 * dense.norm());
     b *= -2.0;
   }
+  // An empty system (a two-level coarse space with every DOF fixed) is solved, not a crash.
+  SparseCholesky empty(SparseCholesky::Backend::Cholmod);
+  const SparseCholesky::Matrix none(0, 0);
+  empty.analyze(none);
+  CHECK(empty.factorize(none));
+  Vec x_none;
+  empty.solve(Vec(0), x_none);
+  CHECK(x_none.size() == 0);
   // An indefinite matrix: both refuse it.
   BlockSparseMatrix indefinite = system.A;
   indefinite.block(indefinite.diagonal_block(3))(0, 0) = -1e9;

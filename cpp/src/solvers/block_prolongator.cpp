@@ -82,19 +82,34 @@ void BlockProlongator::prolong(const Vec& coarse, Vec& fine, bool add) {
 }
 
 void BlockProlongator::restrict_to(const Vec& fine, Vec& coarse) {
-  const Index m = num_aggregates();
+  const Index n = num_nodes(), m = num_aggregates();
   const double* r = fine.data();
   const double* val = values_.data();
   double* c = padded_.data();
-  COROTATE_PARALLEL_FOR(m >= 64)
-  for (Index a = 0; a < m; ++a) {
-    double ca[6] = {0, 0, 0, 0, 0, 0};
-    for (int s = aggregate_start_[a]; s < aggregate_start_[a + 1]; ++s) {
-      const double* b = val + 18 * aggregate_block_[s];
-      const double* ri = r + 3 * aggregate_node_[s];
-      for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
+  if (num_threads() == 1 || m < 64) {
+    // Streaming the blocks in storage order and scattering into the aggregates reads them
+    // faster than the gather; each aggregate still sums its blocks in node order, the same
+    // sum as the gather's, so the bits do not depend on the thread count.
+    padded_.setZero();
+    for (Index i = 0; i < n; ++i) {
+      const double* ri = r + 3 * i;
+      for (int k = node_start_[i]; k < node_start_[i + 1]; ++k) {
+        const double* b = val + 18 * k;
+        double* ca = c + 6 * block_aggregate_[k];
+        for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
+      }
     }
-    for (int q = 0; q < 6; ++q) c[6 * a + q] = ca[q];
+  } else {
+    COROTATE_PARALLEL_FOR(true)
+    for (Index a = 0; a < m; ++a) {
+      double ca[6] = {0, 0, 0, 0, 0, 0};
+      for (int s = aggregate_start_[a]; s < aggregate_start_[a + 1]; ++s) {
+        const double* b = val + 18 * aggregate_block_[s];
+        const double* ri = r + 3 * aggregate_node_[s];
+        for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
+      }
+      for (int q = 0; q < 6; ++q) c[6 * a + q] = ca[q];
+    }
   }
   coarse.resize(coarse_size());
   for (Index a = 0; a < m; ++a)

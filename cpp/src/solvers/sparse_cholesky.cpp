@@ -8,13 +8,69 @@
 
 namespace corotate {
 
+#ifdef COROTATE_HAVE_CHOLMOD
+namespace {
+
+// CHOLMOD's supernodal factor, with access to its arrays for our own solve.
+struct SupernodalLLT : Eigen::CholmodSupernodalLLT<SparseCholesky::Matrix, Eigen::Lower> {
+  const cholmod_factor* factor() const { return m_cholmodFactor; }
+};
+
+// x = A^-1 b from the supernodal factor P A P^T = L L^T: the two triangular sweeps over the
+// supernodes with Eigen's dense kernels. cholmod_solve does the same through BLAS (dtrsv,
+// dgemv), which Debian's reference BLAS runs as unvectorised loops (15 % of a step at
+// 122,880 tets), and allocates its result on every call. work: n + the tallest supernode.
+void supernodal_solve(const cholmod_factor& L, const Vec& b, Vec& x, Vec& y, Vec& gathered) {
+  using Panel = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+  const Index n = static_cast<Index>(L.n);
+  const int* perm = static_cast<const int*>(L.Perm);
+  const int* super = static_cast<const int*>(L.super);
+  const int* pi = static_cast<const int*>(L.pi);
+  const int* px = static_cast<const int*>(L.px);
+  const int* rows = static_cast<const int*>(L.s);
+  const double* values = static_cast<const double*>(L.x);
+  const Index supernodes = static_cast<Index>(L.nsuper);
+  y.resize(n);
+  gathered.resize(static_cast<Index>(L.maxesize));
+  for (Index k = 0; k < n; ++k) y[k] = b[perm[k]];
+  for (Index s = 0; s < supernodes; ++s) {  // L y' = y
+    const int first = super[s], cols = super[s + 1] - first, height = pi[s + 1] - pi[s], below = height - cols;
+    const Panel panel(values + px[s], height, cols, Eigen::OuterStride<>(height));
+    auto ys = y.segment(first, cols);
+    panel.topRows(cols).triangularView<Eigen::Lower>().solveInPlace(ys);
+    if (below == 0) continue;
+    auto update = gathered.head(below);
+    update.noalias() = panel.bottomRows(below) * ys;
+    const int* below_rows = rows + pi[s] + cols;
+    for (int r = 0; r < below; ++r) y[below_rows[r]] -= update[r];
+  }
+  for (Index s = supernodes - 1; s >= 0; --s) {  // L^T y' = y
+    const int first = super[s], cols = super[s + 1] - first, height = pi[s + 1] - pi[s], below = height - cols;
+    const Panel panel(values + px[s], height, cols, Eigen::OuterStride<>(height));
+    auto ys = y.segment(first, cols);
+    if (below > 0) {
+      auto known = gathered.head(below);
+      const int* below_rows = rows + pi[s] + cols;
+      for (int r = 0; r < below; ++r) known[r] = y[below_rows[r]];
+      ys.noalias() -= panel.bottomRows(below).transpose() * known;
+    }
+    panel.topRows(cols).triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
+  }
+  x.resize(n);
+  for (Index k = 0; k < n; ++k) x[perm[k]] = y[k];
+}
+
+}  // namespace
+#endif
+
 struct SparseCholesky::Impl {
   Backend backend = Backend::Auto;
   bool analysed = false;
   bool use_cholmod = false;
   Eigen::SimplicialLDLT<Matrix> ldlt;
 #ifdef COROTATE_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<Matrix, Eigen::Lower> cholmod;
+  SupernodalLLT cholmod;
+  Vec permuted, gathered;  // work of supernodal_solve
 #endif
 };
 
@@ -46,6 +102,7 @@ const char* SparseCholesky::backend_name() const {
 
 void SparseCholesky::analyze(const Matrix& A) {
   if (impl_->backend == Backend::Auto) impl_->use_cholmod = have_cholmod() && A.rows() >= kCholmodFromDofs;
+  if (impl_->backend == Backend::Cholmod) impl_->use_cholmod = A.rows() > 0;  // CHOLMOD has no empty factor
   impl_->analysed = true;
 #ifdef COROTATE_HAVE_CHOLMOD
   if (impl_->use_cholmod) return impl_->cholmod.analyzePattern(A);
@@ -67,7 +124,10 @@ bool SparseCholesky::factorize(const Matrix& A) {
 void SparseCholesky::solve(const Vec& b, Vec& x) const {
 #ifdef COROTATE_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
-    x = impl_->cholmod.solve(b);
+    const cholmod_factor* L = impl_->cholmod.factor();
+    if (L->is_super && L->is_ll && L->itype == CHOLMOD_INT && L->xtype == CHOLMOD_REAL && L->dtype == CHOLMOD_DOUBLE)
+      supernodal_solve(*L, b, x, impl_->permuted, impl_->gathered);
+    else x = impl_->cholmod.solve(b);  // not a form supernodal_solve reads (not expected)
     return;
   }
 #endif

@@ -72,7 +72,10 @@ class TwoLevelPreconditioner final : public Preconditioner {
   BlockJacobiPreconditioner diagonal_;
   BlockProlongator prolongator_;  // P (3n x at most 6m) for P c and P^T r
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> coarse_;
-  SparseCholesky coarse_factor_;  // CHOLMOD when built with it
+  // CHOLMOD when built with it, at any size: the factor is computed once and solved at every
+  // application, and the supernodal solve is the faster one (bench/README.md).
+  SparseCholesky coarse_factor_{SparseCholesky::have_cholmod() ? SparseCholesky::Backend::Cholmod
+                                                               : SparseCholesky::Backend::Eigen};
   Vec residual_, coarse_rhs_, coarse_solution_, correction_, turned_;
   double smoothing_weight_ = 0.0;  // 4 / (3 lambda_max(D^-1 A0)): the smoother contracts
 };
