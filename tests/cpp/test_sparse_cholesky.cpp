@@ -52,6 +52,21 @@ TEST(cholmod_and_eigen_direct_solves_agree) {
     CHECK((x_cholmod - dense).norm() <= 1e-12 * dense.norm());
     b *= -2.0;
   }
+  // The single-precision solve of the same factor (a preconditioner's): float round-off
+  // times the condition number (~1e3 here), and really float.
+  {
+    Eigen::SparseMatrix<double, Eigen::ColMajor, int> scalar;
+    system.A.copy_to(scalar);
+    SparseCholesky single(SparseCholesky::Backend::Cholmod);
+    single.set_single_precision_solve(true);
+    single.analyze(scalar);
+    CHECK(single.factorize(scalar));
+    Vec x_single;
+    single.solve(b, x_single);
+    const Vec dense = system.dense.ldlt().solve(b);
+    const double error = (x_single - dense).norm() / dense.norm();
+    CHECK(error < 1e-4 && error > 1e-12);
+  }
   // An empty system (a two-level coarse space with every DOF fixed) is solved, not a crash.
   SparseCholesky empty(SparseCholesky::Backend::Cholmod);
   const SparseCholesky::Matrix none(0, 0);

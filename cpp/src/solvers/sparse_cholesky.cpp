@@ -20,24 +20,25 @@ struct SupernodalLLT : Eigen::CholmodSupernodalLLT<SparseCholesky::Matrix, Eigen
 // supernodes with Eigen's dense kernels. cholmod_solve does the same through BLAS (dtrsv,
 // dgemv), which Debian's reference BLAS runs as unvectorised loops (15 % of a step at
 // 122,880 tets), and allocates its result on every call. work: n + the tallest supernode.
-void supernodal_solve(const cholmod_factor& L, const Vec& b, Vec& x, Vec& y, Vec& gathered) {
-  using Panel = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+template <typename Scalar>
+void supernodal_solve(const cholmod_factor& L, const Scalar* values, const Vec& b, Vec& x,
+                      Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y, Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& gathered) {
+  using Panel = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>, 0, Eigen::OuterStride<>>;
   const Index n = static_cast<Index>(L.n);
   const int* perm = static_cast<const int*>(L.Perm);
   const int* super = static_cast<const int*>(L.super);
   const int* pi = static_cast<const int*>(L.pi);
   const int* px = static_cast<const int*>(L.px);
   const int* rows = static_cast<const int*>(L.s);
-  const double* values = static_cast<const double*>(L.x);
   const Index supernodes = static_cast<Index>(L.nsuper);
   y.resize(n);
   gathered.resize(static_cast<Index>(L.maxesize));
-  for (Index k = 0; k < n; ++k) y[k] = b[perm[k]];
+  for (Index k = 0; k < n; ++k) y[k] = static_cast<Scalar>(b[perm[k]]);
   for (Index s = 0; s < supernodes; ++s) {  // L y' = y
     const int first = super[s], cols = super[s + 1] - first, height = pi[s + 1] - pi[s], below = height - cols;
     const Panel panel(values + px[s], height, cols, Eigen::OuterStride<>(height));
     auto ys = y.segment(first, cols);
-    panel.topRows(cols).triangularView<Eigen::Lower>().solveInPlace(ys);
+    panel.topRows(cols).template triangularView<Eigen::Lower>().solveInPlace(ys);
     if (below == 0) continue;
     auto update = gathered.head(below);
     update.noalias() = panel.bottomRows(below) * ys;
@@ -54,7 +55,7 @@ void supernodal_solve(const cholmod_factor& L, const Vec& b, Vec& x, Vec& y, Vec
       for (int r = 0; r < below; ++r) known[r] = y[below_rows[r]];
       ys.noalias() -= panel.bottomRows(below).transpose() * known;
     }
-    panel.topRows(cols).triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
+    panel.topRows(cols).template triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
   }
   x.resize(n);
   for (Index k = 0; k < n; ++k) x[perm[k]] = y[k];
@@ -71,6 +72,9 @@ struct SparseCholesky::Impl {
 #ifdef COROTATE_HAVE_CHOLMOD
   SupernodalLLT cholmod;
   Vec permuted, gathered;  // work of supernodal_solve
+  bool single = false;               // set_single_precision_solve
+  std::vector<float> single_values;  // float copy of the factor's values (made by factorize)
+  Eigen::VectorXf permuted_single, gathered_single;
 #endif
 };
 
@@ -95,6 +99,12 @@ SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
+void SparseCholesky::set_single_precision_solve(bool single) {
+#ifdef COROTATE_HAVE_CHOLMOD
+  impl_->single = single;
+#endif
+}
+
 const char* SparseCholesky::backend_name() const {
   if (impl_->backend == Backend::Auto && !impl_->analysed) return "auto";
   return impl_->use_cholmod ? "cholmod" : "eigen";
@@ -114,7 +124,13 @@ bool SparseCholesky::factorize(const Matrix& A) {
 #ifdef COROTATE_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
     impl_->cholmod.factorize(A);
-    return impl_->cholmod.info() == Eigen::Success;
+    if (impl_->cholmod.info() != Eigen::Success) return false;
+    if (impl_->single) {
+      const cholmod_factor* L = impl_->cholmod.factor();
+      const double* v = static_cast<const double*>(L->x);
+      impl_->single_values.assign(v, v + L->xsize);
+    }
+    return true;
   }
 #endif
   impl_->ldlt.factorize(A);
@@ -125,9 +141,15 @@ void SparseCholesky::solve(const Vec& b, Vec& x) const {
 #ifdef COROTATE_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
     const cholmod_factor* L = impl_->cholmod.factor();
-    if (L->is_super && L->is_ll && L->itype == CHOLMOD_INT && L->xtype == CHOLMOD_REAL && L->dtype == CHOLMOD_DOUBLE)
-      supernodal_solve(*L, b, x, impl_->permuted, impl_->gathered);
-    else x = impl_->cholmod.solve(b);  // not a form supernodal_solve reads (not expected)
+    const bool readable =
+        L->is_super && L->is_ll && L->itype == CHOLMOD_INT && L->xtype == CHOLMOD_REAL && L->dtype == CHOLMOD_DOUBLE;
+    if (!readable) {
+      x = impl_->cholmod.solve(b);  // not a form supernodal_solve reads (not expected)
+    } else if (impl_->single && impl_->single_values.size() == L->xsize) {
+      supernodal_solve(*L, impl_->single_values.data(), b, x, impl_->permuted_single, impl_->gathered_single);
+    } else {
+      supernodal_solve(*L, static_cast<const double*>(L->x), b, x, impl_->permuted, impl_->gathered);
+    }
     return;
   }
 #endif

@@ -123,6 +123,9 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   const SparseMatrix restriction = prolongation.transpose();
   coarse_ = Eigen::SparseMatrix<double, Eigen::ColMajor, int>(restriction * (A * prolongation));
   prolongator_ = BlockProlongator(prolongation, coarse_start);
+  // The coarse solve reads the whole factor twice per application: a float copy halves
+  // that (1e-7 relative changes to a preconditioner; same iterations, bench/README.md).
+  coarse_factor_.set_single_precision_solve(true);
   coarse_factor_.analyze(coarse_);
   if (!coarse_factor_.factorize(coarse_))
     throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
