@@ -90,6 +90,30 @@ class AssembledModel final : public ForceModel {
     }
   };
   void scatter(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const;
+  using Batch = ForceStiffnessBatch<N, kernel_frame_batch<Kernel>>;
+  // Element e = lane b of a batched kernel's output: its forces into f, its upper blocks
+  // into their global blocks and, transposed, into the mirrored ones.
+  void scatter(Index e, const Batch& batch, int b, Nodes& f, BlockSparseMatrix& A) const {
+    for (int a = 0; a < N; ++a)
+      for (int i = 0; i < 3; ++i) f(i, cells_(e, a)) += batch.f[a][i][b];
+    const int* ids = block_ids_.data() + e * N * N;
+    double* values = A.values().data();
+    int p = 0;
+    for (int i = 0; i < N; ++i) {
+      double* diagonal = values + 9 * ids[i * N + i];
+      for (int k = 0; k < 9; ++k) diagonal[k] += batch.K[p][k][b];
+      ++p;
+      for (int j = i + 1; j < N; ++j, ++p) {
+        double* upper = values + 9 * ids[i * N + j];
+        double* lower = values + 9 * ids[j * N + i];
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) {
+            upper[3 * r + c] += batch.K[p][3 * r + c][b];
+            lower[3 * c + r] += batch.K[p][3 * r + c][b];
+          }
+      }
+    }
+  }
   // All N x N blocks of Ke as they are (a non-symmetric tangent).
   void scatter_all_blocks(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const {
     const int* ids = block_ids_.data() + e * N * N;
@@ -254,11 +278,20 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
                          "' model has no separate geometric stiffness (the hyperelastic models have one)");
     // One element: gather, frame, what was asked, scatter. Touches only the entries of its
     // own nodes (see colour_chunks).
+    auto diagnose = [&](Index e, const NodeMatrix& xe, const typename Kernel::Frame& frame, double& energy,
+                        Index& inverted) {
+      if (what.energy) energy += kernel_.energy(elements_[e], frame, xe);
+      if (what.count_inverted && !(kernel_.volume_ratio(elements_[e], frame, xe) > 0)) ++inverted;
+    };
+    // The hot path of the implicit step (forces and the Model stiffness, scattered straight
+    // into the global matrix) runs a batch of elements at once where the kernel can.
+    bool batched = false;
+    if constexpr (kernel_batches_forces_stiffness<Kernel>)
+      batched = kind == StiffnessKind::Model && direct_scatter && what.forces;
     auto element = [&](Index e, const NodeMatrix& xe, const typename Kernel::Frame& frame, NodeMatrix& ye,
                        NodeMatrix& fe, Stiffness& Ke, NodeScalars& k, double& energy, Index& inverted) {
       const auto& el = elements_[e];
-      if (what.energy) energy += kernel_.energy(el, frame, xe);
-      if (what.count_inverted && !(kernel_.volume_ratio(el, frame, xe) > 0)) ++inverted;
+      diagnose(e, xe, frame, energy, inverted);
       bool have_model_stiffness = false;
       bool scattered = false;
       bool all_blocks = false;  // Ke is a non-symmetric tangent
@@ -314,7 +347,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       COROTATE_PARALLEL_FOR(count > 1)
       for (Index i = 0; i < count; ++i) {
         const Index c = chunks[i];
-        NodeMatrix xe[kFrameBatch], ye, fe;
+        NodeMatrix xe[kFrameBatch], ys[kFrameBatch], ye, fe;
+        Batch batch;
         typename Kernel::Frame frames[kFrameBatch];
         Stiffness Ke;
         NodeScalars k;
@@ -330,6 +364,22 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
               kernel_.frames(&elements_[first], xe, &caches_[first], frames, count);
             } else {
               frames[0] = kernel_.frame(elements_[first], xe[0], caches_[first]);
+            }
+            if constexpr (kernel_batches_forces_stiffness<Kernel>) {
+              if (batched) {
+                const NodeMatrix* at = xe;
+                if (linearize) {
+                  for (int b = 0; b < count; ++b) gather(*what.forces_at, first + b, ys[b]);
+                  at = ys;
+                }
+                kernel_.forces_and_stiffness(&elements_[first], frames, xe, at, count, what.stiffness_scale, batch);
+                for (int b = 0; b < count; ++b) {
+                  if (what.energy) energy += batch.energy[b];
+                  if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
+                  scatter(first + b, batch, b, *out.forces, *out.stiffness);
+                }
+                continue;
+              }
             }
             for (int b = 0; b < count; ++b) element(first + b, xe[b], frames[b], ye, fe, Ke, k, energy, inverted);
           }

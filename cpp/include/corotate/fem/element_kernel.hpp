@@ -32,6 +32,12 @@
 //   void frames(const Element*, const NodeMatrix* x,          frames() computes up to this many
 //               Cache*, Frame*, int count) const;             consecutive elements' frames at
 //                                                             once, faster than one by one
+//   void forces_and_stiffness(const Element*, const Frame*,   optional (kernels with frame_batch
+//       const NodeMatrix* x, const NodeMatrix* at, int count,  > 1): for count consecutive
+//       double scale, ForceStiffnessBatch<N, frame_batch>&)    elements at once, forces() at
+//       const;                                                 `at`, scale times stiffness(),
+//                                                             and energy() and volume_ratio()
+//                                                             at x: the implicit step's sweep
 //   double energy(const Element&, const Frame&, const NodeMatrix& x) const;
 //   void forces(const Element&, const Frame&, const NodeMatrix& x, NodeMatrix& f) const;
 //                                                             f = the element's nodal forces
@@ -61,6 +67,7 @@
 #pragma once
 
 #include <type_traits>
+#include <utility>
 
 #include "corotate/elements/element_geometry.hpp"
 #include "corotate/material.hpp"
@@ -89,6 +96,20 @@ struct ElementMatrixSink {
   void add(int a, int b, const Mat3& block) { K.template block<3, 3>(3 * a, 3 * b) = block; }
 };
 
+// What a kernel's batched forces_and_stiffness fills, lane b for element b of the batch
+// (structure of arrays, so that the kernel's loops over the lanes vectorise): the nodal
+// forces, the upper 3x3 blocks (a, b), a <= b, of the scaled Model stiffness in the order
+// (0,0), (0,1), ..., (0,N-1), (1,1), ..., each row-major (diagonal blocks exactly
+// symmetric), the energy and the volume ratio.
+template <int N, int Batch>
+struct ForceStiffnessBatch {
+  static constexpr int num_upper_blocks = N * (N + 1) / 2;
+  alignas(64) double f[N][3][Batch];                  // f[a][i][b]: force on node a
+  alignas(64) double K[num_upper_blocks][9][Batch];  // K[block][3 row + column][b]
+  double energy[Batch];
+  double volume_ratio[Batch];
+};
+
 // Kernel::symmetric_tangent where the kernel declares it, else true.
 template <class Kernel, class = void>
 struct KernelSymmetricTangent : std::true_type {};
@@ -106,6 +127,18 @@ struct KernelFrameBatch<Kernel, std::void_t<decltype(Kernel::frame_batch)>>
     : std::integral_constant<int, Kernel::frame_batch> {};
 template <class Kernel>
 inline constexpr int kernel_frame_batch = KernelFrameBatch<Kernel>::value;
+
+// Whether the kernel has the batched forces_and_stiffness.
+template <class Kernel, class = void>
+struct KernelBatchesForcesStiffness : std::false_type {};
+template <class Kernel>
+struct KernelBatchesForcesStiffness<
+    Kernel, std::void_t<decltype(std::declval<const Kernel&>().forces_and_stiffness(
+                nullptr, nullptr, nullptr, nullptr, 0, 0.0,
+                std::declval<ForceStiffnessBatch<Kernel::ElementType::num_nodes, kernel_frame_batch<Kernel>>&>()))>>
+    : std::true_type {};
+template <class Kernel>
+inline constexpr bool kernel_batches_forces_stiffness = KernelBatchesForcesStiffness<Kernel>::value;
 
 // For kernels without per-configuration quantities or caches.
 struct NoFrame {};

@@ -8,6 +8,7 @@
 
 #include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
 #include "corotate/models/corotational_kernel.hpp"
+#include "corotate/models/corotational_tet_batch.hpp"
 
 namespace corotate {
 
@@ -47,7 +48,7 @@ class CorotationalKernel<Tet4> {
   }
   // Sixteen rotations at once: their iterations run side by side (extract_rotations), which
   // at a normal step costs about a third of sixteen separate calls.
-  static constexpr int frame_batch = 16;
+  static constexpr int frame_batch = kTetBatch;
   void frames(const Element* el, const NodeMatrix* x, Cache* cache, Frame* out, int count) const {
     Mat3 F[frame_batch], R[frame_batch];
     Eigen::Quaterniond q[frame_batch];
@@ -60,6 +61,28 @@ class CorotationalKernel<Tet4> {
       cache[b].q = q[b];
       out[b] = {R[b], F[b]};
     }
+  }
+  // forces() at `at`, scale times stiffness(), energy() and volume_ratio() of count <=
+  // frame_batch elements at once (corotational_tet_batch.hpp): the implicit step's sweep.
+  // Energy and volume ratio are at the frames' positions (x).
+  void forces_and_stiffness(const Element* el, const Frame* fr, const NodeMatrix*, const NodeMatrix* at, int count,
+                            double scale, ForceStiffnessBatch<4, frame_batch>& out) const {
+    TetBatchInput in;
+    for (int b = 0; b < frame_batch; ++b) {
+      const int k = b < count ? b : 0;  // lanes past count repeat the first element
+      for (int n = 0; n < 4; ++n)
+        for (int i = 0; i < 3; ++i) {
+          in.G[n][i][b] = el[k].G(n, i);
+          in.y[n][i][b] = at[k](i, n);
+        }
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          in.R[i][j][b] = fr[k].R(i, j);
+          in.F[i][j][b] = fr[k].F(i, j);
+        }
+      in.volume[b] = el[k].volume;
+    }
+    corotational_tet_batch(in, lambda_, mu_, scale, out);
   }
   double energy(const Element& el, const Frame& fr, const NodeMatrix&) const {  // at the frame's positions
     Mat3 strain = fr.R.transpose() * fr.F;

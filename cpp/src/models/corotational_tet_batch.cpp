@@ -1,0 +1,94 @@
+#include "corotate/models/corotational_tet_batch.hpp"
+
+#include "corotate/cpu_clones.hpp"
+
+namespace corotate {
+
+namespace {
+constexpr int B = kTetBatch;
+
+// sigma = 2 mu strain + lambda tr(strain) I of strain = sym(R^T F) - I, lane by lane.
+COROTATE_CLONE_INLINE void stress(const double (&R)[3][3][B], const double (&F)[3][3][B], double lambda, double mu,
+                                  double (&sigma)[3][3][B]) {
+  double C[3][3][B];
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l)
+      for (int b = 0; b < B; ++b)
+        C[k][l][b] = R[0][k][b] * F[0][l][b] + R[1][k][b] * F[1][l][b] + R[2][k][b] * F[2][l][b];
+  for (int b = 0; b < B; ++b) {
+    const double e00 = C[0][0][b] - 1, e11 = C[1][1][b] - 1, e22 = C[2][2][b] - 1;
+    const double trace = lambda * (e00 + e11 + e22), twice_mu = 2 * mu;
+    sigma[0][0][b] = twice_mu * e00 + trace;
+    sigma[1][1][b] = twice_mu * e11 + trace;
+    sigma[2][2][b] = twice_mu * e22 + trace;
+    sigma[0][1][b] = sigma[1][0][b] = mu * (C[0][1][b] + C[1][0][b]);
+    sigma[0][2][b] = sigma[2][0][b] = mu * (C[0][2][b] + C[2][0][b]);
+    sigma[1][2][b] = sigma[2][1][b] = mu * (C[1][2][b] + C[2][1][b]);
+  }
+}
+}  // namespace
+
+COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double lambda, double mu, double scale,
+                                                ForceStiffnessBatch<4, kTetBatch>& out) {
+  // Rotated gradients a_i = R g_i.
+  alignas(64) double a[4][3][B];
+  for (int i = 0; i < 4; ++i)
+    for (int r = 0; r < 3; ++r)
+      for (int b = 0; b < B; ++b)
+        a[i][r][b] = in.R[r][0][b] * in.G[i][0][b] + in.R[r][1][b] * in.G[i][1][b] + in.R[r][2][b] * in.G[i][2][b];
+
+  // Forces: F = y G, strain = sym(R^T F) - I, sigma = 2 mu strain + lambda tr(strain) I,
+  // f_a = P g_a with P = -V R sigma.
+  alignas(64) double F[3][3][B];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      for (int b = 0; b < B; ++b)
+        F[i][k][b] = in.y[0][i][b] * in.G[0][k][b] + in.y[1][i][b] * in.G[1][k][b] + in.y[2][i][b] * in.G[2][k][b] +
+                     in.y[3][i][b] * in.G[3][k][b];
+  alignas(64) double sigma[3][3][B];
+  stress(in.R, F, lambda, mu, sigma);
+  alignas(64) double P[3][3][B];  // -V R sigma
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      for (int b = 0; b < B; ++b)
+        P[i][k][b] = -in.volume[b] *
+                     (in.R[i][0][b] * sigma[0][k][b] + in.R[i][1][b] * sigma[1][k][b] + in.R[i][2][b] * sigma[2][k][b]);
+  for (int n = 0; n < 4; ++n)
+    for (int i = 0; i < 3; ++i)
+      for (int b = 0; b < B; ++b)
+        out.f[n][i][b] = P[i][0][b] * in.G[n][0][b] + P[i][1][b] * in.G[n][1][b] + P[i][2][b] * in.G[n][2][b];
+
+  // Energy V/2 strain : sigma and det F at the frame's positions.
+  alignas(64) double sigma_x[3][3][B];
+  stress(in.R, in.F, lambda, mu, sigma_x);
+  for (int b = 0; b < B; ++b) {
+    double contraction = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double c = in.R[0][i][b] * in.F[0][j][b] + in.R[1][i][b] * in.F[1][j][b] + in.R[2][i][b] * in.F[2][j][b];
+        if (i == j) c -= 1;
+        contraction += c * sigma_x[i][j][b];  // sigma symmetric: strain : sigma = (R^T F - I) : sigma
+      }
+    out.energy[b] = 0.5 * in.volume[b] * contraction;
+    const auto& F = in.F;
+    out.volume_ratio[b] = F[0][0][b] * (F[1][1][b] * F[2][2][b] - F[1][2][b] * F[2][1][b]) -
+                          F[0][1][b] * (F[1][0][b] * F[2][2][b] - F[1][2][b] * F[2][0][b]) +
+                          F[0][2][b] * (F[1][0][b] * F[2][1][b] - F[1][1][b] * F[2][0][b]);
+  }
+
+  // Blocks (i, j), i <= j: with u = a_i a_j^T, lambda V u + mu V u^T + mu V (a_i . a_j) I.
+  // Diagonal blocks come out exactly symmetric (u is).
+  int p = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i; j < 4; ++j, ++p)
+      for (int b = 0; b < B; ++b) {
+        const double vl = scale * in.volume[b] * lambda, vm = scale * in.volume[b] * mu;
+        const double d = vm * (a[i][0][b] * a[j][0][b] + a[i][1][b] * a[j][1][b] + a[i][2][b] * a[j][2][b]);
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            out.K[p][3 * r + c][b] =
+                vl * (a[i][r][b] * a[j][c][b]) + vm * (a[j][r][b] * a[i][c][b]) + (r == c ? d : 0.0);
+      }
+}
+
+}  // namespace corotate

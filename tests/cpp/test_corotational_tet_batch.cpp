@@ -1,0 +1,129 @@
+// The batched co-rotational tet kernel (corotational_tet_batch.hpp) against the one-element
+// kernel: forces and stiffness blocks of random elements, full and partial batches; and the
+// assembled model's batched sweep against its element-by-element requests.
+#include "corotate/fem/assembled_model.hpp"
+#include "corotate/models/corotational_kernel.hpp"
+#include "corotate/models/model_factory.hpp"
+#include "fixtures.hpp"
+#include "test_driver.hpp"
+
+using namespace corotate;
+using fixtures::uniform;
+
+namespace {
+
+using Kernel = CorotationalKernel<Tet4>;
+const Material kMaterial{1e6, 0.3, 1000.0};
+
+Kernel::NodeMatrix random_tet() {  // a positively oriented, reasonably shaped tet
+  for (;;) {
+    const Kernel::NodeMatrix X = fixtures::random_matrix<Kernel::NodeMatrix>();
+    Mat3 D;
+    for (int s = 0; s < 3; ++s) D.col(s) = X.col(s + 1) - X.col(0);
+    if (D.determinant() > 0.05) return X;
+  }
+}
+
+}  // namespace
+
+TEST(batched_tet_kernel_equals_the_one_element_kernel) {
+  const Kernel kernel(kMaterial, ModelOptions());
+  const double scale = 0.37;
+  for (const int count : {1, 7, 15, kTetBatch}) {
+    Kernel::Element el[kTetBatch];
+    Kernel::Frame fr[kTetBatch];
+    Kernel::NodeMatrix x[kTetBatch], y[kTetBatch];
+    for (int b = 0; b < count; ++b) {
+      el[b] = kernel.precompute(random_tet(), b);
+      // Any rotation: the formulas do not need it to be the polar one of the positions.
+      fr[b].R = fixtures::random_rotation();
+      x[b] = fr[b].R * random_tet();
+      fr[b].F = x[b] * el[b].G;
+      y[b] = x[b] + 0.1 * fixtures::random_matrix<Kernel::NodeMatrix>();
+    }
+    ForceStiffnessBatch<4, kTetBatch> batch;
+    kernel.forces_and_stiffness(el, fr, x, y, count, scale, batch);
+    for (int b = 0; b < count; ++b) {
+      const double energy = kernel.energy(el[b], fr[b], x[b]);
+      CHECK(energy > 0);
+      CHECK_NEAR(batch.energy[b], energy, 1e-13 * energy);
+      const double volume_ratio = kernel.volume_ratio(el[b], fr[b], x[b]);
+      CHECK_NEAR(batch.volume_ratio[b], volume_ratio, 1e-13 * std::abs(volume_ratio));
+      Kernel::NodeMatrix f;
+      kernel.forces(el[b], fr[b], y[b], f);
+      for (int a = 0; a < 4; ++a)
+        for (int i = 0; i < 3; ++i) CHECK_NEAR(batch.f[a][i][b], f(i, a), 1e-12 * f.norm());
+      Kernel::Stiffness K;
+      ElementMatrixSink<4> sink{K};
+      kernel.stiffness(el[b], fr[b], y[b], sink);
+      int p = 0;
+      for (int i = 0; i < 4; ++i)
+        for (int j = i; j < 4; ++j, ++p)
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) {
+              CHECK_NEAR(batch.K[p][3 * r + c][b], scale * K(3 * i + r, 3 * j + c), 1e-12 * scale * K.norm());
+              if (i == j) CHECK(batch.K[p][3 * r + c][b] == batch.K[p][3 * c + r][b]);  // exactly symmetric
+            }
+    }
+  }
+}
+
+TEST(batched_sweep_equals_separate_force_and_stiffness_requests) {
+  // 36 tets: batches of 16, 16 and 4.
+  const auto mesh = fixtures::tet_beam(3, 2, 1);
+  auto model = make_model("corotational", "tetra", mesh.points, mesh.cells, kMaterial);
+  const Mat3 R = Eigen::AngleAxisd(0.8, Vec3(1, -2, 3).normalized()).toRotationMatrix();
+  Nodes x = mesh.points, y = mesh.points;
+  for (Index i = 0; i < x.cols(); ++i) {
+    x.col(i) = R * (mesh.points.col(i) + 0.05 * Vec3(uniform(), uniform(), uniform()));
+    y.col(i) = x.col(i) + 0.01 * Vec3(uniform(), uniform(), uniform());
+  }
+  const double scale = 1e-4;
+  // The implicit step's request: forces at y linearised about x, the Model stiffness, the
+  // energy and the inversion count, in one (batched) sweep.
+  Request what;
+  what.forces = true;
+  what.forces_at = &y;
+  what.energy = true;
+  what.count_inverted = true;
+  what.stiffness = StiffnessKind::Model;
+  what.stiffness_scale = scale;
+  Nodes f = Nodes::Zero(3, x.cols());
+  BlockSparseMatrix K = model->pattern();
+  K.set_zero();
+  Results out;
+  out.forces = &f;
+  out.stiffness = &K;
+  model->evaluate(x, what, out);
+  // The same by the element-by-element paths: forces alone, stiffness alone.
+  Request forces_only;
+  forces_only.forces = true;
+  forces_only.forces_at = &y;
+  forces_only.energy = true;
+  Nodes f_ref = Nodes::Zero(3, x.cols());
+  Results forces_out;
+  forces_out.forces = &f_ref;
+  model->evaluate(x, forces_only, forces_out);
+  BlockSparseMatrix K_ref = model->pattern();
+  K_ref.set_zero();
+  model->add_stiffness(x, StiffnessKind::Model, scale, K_ref);
+
+  CHECK((f - f_ref).norm() <= 1e-13 * f_ref.norm());
+  double norm = 0, difference = 0;
+  for (size_t v = 0; v < K.values().size(); ++v) {
+    norm = std::max(norm, std::abs(K_ref.values()[v]));
+    difference = std::max(difference, std::abs(K.values()[v] - K_ref.values()[v]));
+  }
+  CHECK(norm > 0);
+  CHECK(difference <= 1e-13 * norm);
+  // (The rotations are warm-started from the previous call's: equal up to round-off.)
+  CHECK_NEAR(out.energy, forces_out.energy, 1e-13 * forces_out.energy);
+  CHECK(out.inverted == 0);
+  // Exactly symmetric, as the element-by-element assembly.
+  const auto& rows = K.row_start();
+  for (Index i = 0; i + 1 < static_cast<Index>(rows.size()); ++i)
+    for (int k = rows[i]; k < rows[i + 1]; ++k) {
+      const int j = K.columns()[k];
+      CHECK(Mat3(K.block(k)) == Mat3(K.block(K.block_index(j, i)).transpose()));
+    }
+}
