@@ -3,10 +3,6 @@
 #include <Eigen/QR>
 #include <cmath>
 
-#include "corotate/models/rotation_extraction.hpp"
-#include "corotate/parallel.hpp"
-#include "corotate/solvers/aggregate_rotations.hpp"
-
 namespace corotate {
 
 namespace {
@@ -41,16 +37,13 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   // Built at the configuration of A0: its rigid-body modes are those of the positions A0 was
   // assembled at (the rest positions when none were given).
   const Nodes& built_at = positions_.cols() == n ? positions_ : rest_;
-  int m = 0;
-  aggregate_ = aggregate_nodes(A0, &m);
-  const std::vector<int>& agg = aggregate_;
+  rotations_.build(A0, built_at);  // the aggregates, each node's offset from their centre
+  const Index m = rotations_.num_aggregates();
+  const std::vector<int>& agg = rotations_.aggregate_of_node();
+  const Nodes& offsets = rotations_.offsets();
   const std::vector<char> fixed = decoupled_dofs(A0);
   std::vector<std::vector<int>> members(m);
   for (Index i = 0; i < n; ++i) members[agg[i]].push_back(static_cast<int>(i));
-  offsets_.resize(3, n);
-  rotations_.assign(m, Mat3::Identity());
-  rotation_guess_.assign(m, Eigen::Quaterniond::Identity());
-  rotated_ = false;
 
   // Tentative prolongator: per aggregate, an orthonormal basis of its rigid-body modes
   // (translations e_k, rotations w x (X - c)), with fixed DOFs left out.
@@ -59,13 +52,9 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   std::vector<int> coarse_start(1, 0);  // first coarse DOF of each aggregate
   for (int a = 0; a < m; ++a) {
     const auto& nodes = members[a];
-    Vec3 centre = Vec3::Zero();
-    for (int i : nodes) centre += built_at.col(i);
-    centre /= double(nodes.size());
-    for (int i : nodes) offsets_.col(i) = built_at.col(i) - centre;
     Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(3 * nodes.size(), 6);
     for (size_t k = 0; k < nodes.size(); ++k) {
-      const Vec3 d = offsets_.col(nodes[k]);
+      const Vec3 d = offsets.col(nodes[k]);
       Mat3 rot;  // columns: displacement of this node for a unit rotation about x, y, z
       rot << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
       modes.block<3, 3>(3 * k, 0).setIdentity();
@@ -142,22 +131,6 @@ void TwoLevelPreconditioner::set_positions(const Nodes& x) {
   positions_pending_ = true;
 }
 
-void TwoLevelPreconditioner::update_rotations() {
-  const Index m = num_aggregates();
-  std::vector<Mat3>& covariance = rotations_;  // summed in place, then turned into rotations
-  for (Index a = 0; a < m; ++a) covariance[a].setZero();
-  // sum_i (x_i - c_x)(X_i - c_X)^T = sum_i x_i (X_i - c_X)^T: the offsets sum to zero.
-  for (Index i = 0; i < positions_.cols(); ++i)
-    covariance[aggregate_[i]].noalias() += positions_.col(i) * offsets_.col(i).transpose();
-  rotated_ = false;
-  for (Index a = 0; a < m; ++a) {
-    // extract_rotation keeps the previous rotation for a zero (one-node aggregate) or
-    // non-finite covariance.
-    rotations_[a] = extract_rotation(covariance[a], rotation_guess_[a]);
-    rotated_ = rotated_ || !rotations_[a].isIdentity(1e-12);
-  }
-}
-
 void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
   if (positions_.cols() != 0 && positions_.cols() != A.num_nodes())
     throw InvalidInput("two_level preconditioner: positions of " + std::to_string(positions_.cols()) + " nodes for a " +
@@ -165,7 +138,7 @@ void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
   if (!ready_) {
     setup(A);
   } else if (positions_pending_) {
-    update_rotations();
+    rotations_.update(positions_);
   }
   positions_pending_ = false;
   A_ = &A;
@@ -182,21 +155,16 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   smooth(r, z);
   A_->multiply(z, residual_);
   residual_ = r - residual_;
-  const Index n = A_->num_nodes();
-  if (rotated_) {
-    COROTATE_PARALLEL_FOR(n >= 512)
-    for (Index i = 0; i < n; ++i)
-      turned_.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]].transpose() * residual_.segment<3>(3 * i);
+  if (rotations_.rotated()) {
+    rotations_.to_built_frame(residual_, turned_);
     prolongator_.restrict_to(turned_, coarse_rhs_);
   } else {
     prolongator_.restrict_to(residual_, coarse_rhs_);
   }
   coarse_factor_.solve(coarse_rhs_, coarse_solution_);
-  if (rotated_) {
+  if (rotations_.rotated()) {
     prolongator_.prolong(coarse_solution_, turned_, false);
-    COROTATE_PARALLEL_FOR(n >= 512)
-    for (Index i = 0; i < n; ++i)
-      z.segment<3>(3 * i).noalias() += rotations_[aggregate_[i]] * turned_.segment<3>(3 * i);
+    rotations_.add_from_built_frame(turned_, z);
   } else {
     prolongator_.prolong(coarse_solution_, z, true);
   }

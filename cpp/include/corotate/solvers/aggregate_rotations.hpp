@@ -26,6 +26,8 @@ class AggregateRotations {
   bool empty() const { return aggregate_.empty(); }
   Index num_aggregates() const { return static_cast<Index>(rotations_.size()); }
   const std::vector<int>& aggregate_of_node() const { return aggregate_; }
+  // X_i - c: each node's offset from its aggregate's centre in the build configuration.
+  const Nodes& offsets() const { return offsets_; }
   const Mat3& rotation(Index a) const { return rotations_[a]; }
   // Some aggregate's rotation differs from the identity.
   bool rotated() const { return rotated_; }

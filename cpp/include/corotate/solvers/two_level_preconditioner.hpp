@@ -28,6 +28,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "corotate/solvers/aggregate_rotations.hpp"
 #include "corotate/solvers/block_prolongator.hpp"
 #include "corotate/solvers/preconditioner.hpp"
 #include "corotate/solvers/sparse_cholesky.hpp"
@@ -48,25 +49,19 @@ class TwoLevelPreconditioner final : public Preconditioner {
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
   Index coarse_size() const { return coarse_.rows(); }
-  // Rotation of aggregate a from the configuration the hierarchy was built at (identity
+  // Each aggregate's rotation from the configuration the hierarchy was built at (identities
   // until positions arrive after the build).
-  const Mat3& aggregate_rotation(Index a) const { return rotations_[a]; }
-  Index num_aggregates() const { return static_cast<Index>(rotations_.size()); }
+  const AggregateRotations& rotations() const { return rotations_; }
 
  private:
   using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
   void setup(const BlockSparseMatrix& A0);
   void smooth(const Vec& r, Vec& z);  // z = w D^-1 r (block diagonal of the current A)
-  void update_rotations();            // rotations_ from positions_ (shape matching)
 
   Nodes rest_;
   Nodes positions_;             // the latest set_positions (empty: none given)
   bool positions_pending_ = false;  // set_positions since the last compute
-  std::vector<int> aggregate_;  // aggregate of each node
-  Nodes offsets_;               // X_i - c (build configuration minus its aggregate's centre)
-  std::vector<Mat3> rotations_;  // per aggregate
-  std::vector<Eigen::Quaterniond> rotation_guess_;  // warm starts of the rotation extraction
-  bool rotated_ = false;        // some rotation differs from the identity
+  AggregateRotations rotations_;  // the aggregates and their turn since the build
   bool ready_ = false;
   const BlockSparseMatrix* A_ = nullptr;  // current system matrix (set by compute)
   BlockJacobiPreconditioner diagonal_;
