@@ -18,6 +18,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "corotate/fem/batch_scatter.hpp"
 #include "corotate/fem/element_kernel.hpp"
 #include "corotate/fem/validate_mesh.hpp"
 #include "corotate/materials/psd_projection.hpp"
@@ -91,28 +92,11 @@ class AssembledModel final : public ForceModel {
   };
   void scatter(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const;
   using Batch = ForceStiffnessBatch<N, kernel_frame_batch<Kernel>>;
-  // Element e = lane b of a batched kernel's output: its forces into f, its upper blocks
-  // into their global blocks and, transposed, into the mirrored ones.
-  void scatter(Index e, const Batch& batch, int b, Nodes& f, BlockSparseMatrix& A) const {
+  // The forces of element e = lane b of a batched kernel's output (its stiffness blocks go
+  // to the matrix batch by batch: add_batch_blocks).
+  void scatter(Index e, const Batch& batch, int b, Nodes& f) const {
     for (int a = 0; a < N; ++a)
       for (int i = 0; i < 3; ++i) f(i, cells_(e, a)) += batch.f[a][i][b];
-    const int* ids = block_ids_.data() + e * N * N;
-    double* values = A.values().data();
-    int p = 0;
-    for (int i = 0; i < N; ++i) {
-      double* diagonal = values + 9 * ids[i * N + i];
-      for (int k = 0; k < 9; ++k) diagonal[k] += batch.K[p][k][b];
-      ++p;
-      for (int j = i + 1; j < N; ++j, ++p) {
-        double* upper = values + 9 * ids[i * N + j];
-        double* lower = values + 9 * ids[j * N + i];
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) {
-            upper[3 * r + c] += batch.K[p][3 * r + c][b];
-            lower[3 * c + r] += batch.K[p][3 * r + c][b];
-          }
-      }
-    }
   }
   // All N x N blocks of Ke as they are (a non-symmetric tangent).
   void scatter_all_blocks(Index e, double scale, const Stiffness& Ke, BlockSparseMatrix& A) const {
@@ -376,8 +360,9 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
                 for (int b = 0; b < count; ++b) {
                   if (what.energy) energy += batch.energy[b];
                   if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
-                  scatter(first + b, batch, b, *out.forces, *out.stiffness);
+                  scatter(first + b, batch, b, *out.forces);
                 }
+                add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
                 continue;
               }
             }

@@ -1,0 +1,10 @@
+#include "corotate/fem/batch_scatter.hpp"
+
+namespace corotate {
+
+COROTATE_CPU_CLONES void add_batch_blocks(const ForceStiffnessBatch<4, 16>& batch, int count, const int* ids,
+                                          double* values) {
+  add_batch_blocks<4, 16>(batch, count, ids, values);
+}
+
+}  // namespace corotate
