@@ -233,6 +233,11 @@ PYBIND11_MODULE(_core, m) {
       [](const BlockSparseMatrix& A, const Vec& b, const std::optional<Vec>& x0, const std::string& solver,
          const PCGSettings& pcg, const std::optional<PointsIn>& geometry) {
         if (b.size() != A.num_dofs()) throw InvalidInput("right-hand side length does not match the matrix");
+        // Both solvers read one triangle only (CG's product, the Cholesky factor); a sum of
+        // symmetric matrices formed elsewhere may differ from its transpose by round-off.
+        if (!A.is_symmetric(1e-12))
+          throw InvalidInput(
+              "solve_linear needs a symmetric matrix (A[i, j] == A[j, i] to 1e-12 of the largest entry)");
         Vec x = x0 ? *x0 : Vec::Zero(b.size());
         if (x.size() != b.size()) throw InvalidInput("initial guess length does not match the matrix");
         auto s = make_solver(solver, pcg);
@@ -242,7 +247,7 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("A"), py::arg("b"), py::arg("x0") = py::none(), py::arg("solver") = "pcg", py::arg("pcg") = PCGSettings{},
       py::arg("geometry") = py::none(),
-      "Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node\n"
+      "Solve A x = b (A symmetric) with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node\n"
       "positions, needed by the two_level preconditioner. Returns (x, stats).");
 
   bind_simulation(m);  // simulation_bindings.cpp

@@ -653,7 +653,7 @@ def set_threads(n: typing.SupportsInt | typing.SupportsIndex) -> None:
     """
 def solve_linear(A: BlockSparseMatrix, b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, solver: str = 'pcg', pcg: PCGSettings = ..., geometry: typing.Annotated[numpy.typing.ArrayLike, numpy.float64] | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict]:
     """
-    Solve A x = b with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node
+    Solve A x = b (A symmetric) with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node
     positions, needed by the two_level preconditioner. Returns (x, stats).
     """
 def springs_from_mesh(points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], cell_type: str, youngs_modulus: typing.SupportsFloat | typing.SupportsIndex, density: typing.SupportsFloat | typing.SupportsIndex, beta: typing.SupportsFloat | typing.SupportsIndex, diagonals: bool) -> dict:

@@ -1,6 +1,9 @@
 // BlockSparseMatrix: the pattern built from cells, and y = A x against a dense product.
+#include <algorithm>
+#include <array>
 #include <set>
 
+#include "corotate/parallel.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
 
@@ -92,4 +95,61 @@ TEST(copy_to_gives_the_same_scalar_matrix) {
   for (double& v : A.values()) v *= 3;  // second call: values only
   A.copy_to(S);
   CHECK(Eigen::MatrixXd(S) == 3 * D.transpose());
+}
+
+namespace {
+
+// A random exactly symmetric matrix on a tet beam's pattern.
+BlockSparseMatrix random_symmetric(int nx, int ny, int nz) {
+  const fixtures::Mesh mesh = fixtures::tet_beam(nx, ny, nz);
+  BlockSparseMatrix A = BlockSparseMatrix::from_cells(mesh.points.cols(), mesh.cells);
+  for (Index i = 0; i < A.num_nodes(); ++i)
+    for (int k = A.row_start()[i]; k < A.row_start()[i + 1]; ++k) {
+      const int j = A.columns()[k];
+      if (j < i) continue;
+      Mat3 b = fixtures::random_matrix<Mat3>();
+      if (j == i) b = (b + b.transpose()).eval();
+      A.block(k) = b;
+      A.block(A.block_index(j, i)) = b.transpose();
+    }
+  return A;
+}
+
+}  // namespace
+
+TEST(symmetric_multiply_equals_the_full_one) {
+  // One chunk (48 nodes) and several (31 x 7 x 7 = 1,519 nodes: 2 chunks; 3,321: 6).
+  for (const auto& dims : {std::array<int, 3>{3, 2, 2}, {30, 6, 6}, {40, 8, 8}}) {
+    const BlockSparseMatrix A = random_symmetric(dims[0], dims[1], dims[2]);
+    CHECK(A.is_symmetric());
+    CHECK(A.num_chunks() == std::clamp<Index>(A.num_nodes() / 512, 1, 8));
+    const Vec x = fixtures::random_matrix<Vec>(A.num_dofs(), 1);
+    Vec full(A.num_dofs()), sym = Vec::Constant(A.num_dofs(), 7.0);  // overwritten, not added to
+    A.multiply(x, full);
+    A.multiply_symmetric(x, sym);
+    // The same ~45 products per entry, summed in another order.
+    CHECK_NEAR((sym - full).cwiseAbs().maxCoeff(), 0.0, 1e-13);
+    CHECK(full.cwiseAbs().maxCoeff() > 1);
+    if (have_openmp()) {
+      const int before = num_threads();
+      for (int threads : {2, 3}) {
+        set_num_threads(threads);
+        Vec threaded(A.num_dofs());
+        A.multiply_symmetric(x, threaded);
+        CHECK(threaded == sym);  // to the bit
+      }
+      set_num_threads(before);
+    }
+  }
+}
+
+TEST(is_symmetric_sees_one_changed_entry) {
+  BlockSparseMatrix A = random_symmetric(3, 2, 2);
+  CHECK(A.is_symmetric());
+  const int k = A.block_index(0, 1);
+  A.block(k)(2, 1) += 1e-15;
+  CHECK(!A.is_symmetric());
+  CHECK(A.is_symmetric(1e-14));  // within 1e-14 of the largest entry (~1)
+  A.block(k)(2, 1) += 1e-3;
+  CHECK(!A.is_symmetric(1e-12));
 }

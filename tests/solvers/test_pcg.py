@@ -229,6 +229,11 @@ def test_bad_solver_arguments():
         _core.BlockSparseMatrix(4, np.array([0], dtype=np.int32), np.array([0], dtype=np.int32), np.array([1.0]))
     with pytest.raises(ValueError, match="out of range"):
         _core.BlockSparseMatrix(6, np.array([6], dtype=np.int32), np.array([0], dtype=np.int32), np.array([1.0]))
+    # Both solvers read one triangle: a non-symmetric matrix is refused, for either.
+    skew = (sp.identity(6, format="csr") + sp.csr_matrix(([0.5], ([0], [4])), shape=(6, 6))).tocsr()
+    for solver in ("pcg", "direct"):
+        with pytest.raises(ValueError, match="symmetric"):
+            _core.solve_linear(to_block(skew), np.ones(6), solver=solver)
 
 
 def test_two_level_converges_to_the_direct_solution_in_few_iterations():

@@ -48,7 +48,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
     return {0, 0.0, true};
   }
   const double target = settings_.tolerance * b_norm;
-  A.multiply(x, r_);
+  A.multiply_symmetric(x, r_);
   r_ = b - r_;
   double r_norm = r_.norm();
   // A warm start is taken as it is only when it beats the tolerance a hundredfold. One that
@@ -64,7 +64,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   double rz = r_.dot(z_);
   int it = 0;
   while (it < settings_.max_iterations) {
-    A.multiply(p_, q_);
+    A.multiply_symmetric(p_, q_);
     const double pq = p_.dot(q_);
     if (!(pq > 0))
       throw NotPositiveDefinite("PCG: the system matrix is not positive definite (p^T A p = " + std::to_string(pq) +

@@ -1,7 +1,10 @@
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 
+#include "corotate/cpu_clones.hpp"
 #include "corotate/parallel.hpp"
 
 namespace corotate {
@@ -27,6 +30,22 @@ BlockSparseMatrix BlockSparseMatrix::from_pairs(Index num_nodes, const std::vect
     m.row_start_.push_back(static_cast<int>(m.columns_.size()));
   }
   m.values_.assign(9 * m.columns_.size(), 0.0);
+
+  // About num_nodes / 512 chunks, at most 8: enough for the threads of a small machine, few
+  // enough that most coupled pairs of a well-ordered mesh fall inside one chunk.
+  const Index chunks = std::clamp<Index>(num_nodes / 512, 1, 8);
+  for (Index c = 0; c <= chunks; ++c) m.chunk_start_.push_back(static_cast<int>(c * num_nodes / chunks));
+  m.chunk_lower_.resize(num_nodes);
+  m.chunk_upper_.resize(num_nodes);
+  for (Index c = 0; c < chunks; ++c)
+    for (int i = m.chunk_start_[c]; i < m.chunk_start_[c + 1]; ++i) {
+      int k = m.row_start_[i];
+      while (m.columns_[k] < m.chunk_start_[c]) ++k;
+      m.chunk_lower_[i] = k;
+      k = m.row_start_[i + 1];
+      while (m.columns_[k - 1] >= m.chunk_start_[c + 1]) --k;
+      m.chunk_upper_[i] = k;
+    }
   return m;
 }
 
@@ -73,6 +92,104 @@ void BlockSparseMatrix::multiply(const Vec& x, Vec& y) const {
     yp[3 * i + 1] = y1;
     yp[3 * i + 2] = y2;
   }
+}
+
+namespace {
+
+// Four doubles from any address (unaligned); a GCC vector type, so each CPU clone uses its
+// own vector width. A block row loaded this way brings the next value along (the next row's
+// first, or the next block's); it meets x's zero fourth entry, or lands in y's unused fourth.
+typedef double v4d __attribute__((vector_size(32)));
+COROTATE_CLONE_INLINE v4d load4(const double* p) {
+  v4d v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+COROTATE_CLONE_INLINE double sum3(v4d v) { return v[0] + v[1] + v[2]; }
+
+}  // namespace
+
+COROTATE_CPU_CLONES void BlockSparseMatrix::symmetric_kernel(const double* xp, double* yp) const {
+  const Index chunks = num_chunks();
+  const double* val = values_.data();
+  COROTATE_PARALLEL_FOR(chunks > 1)
+  for (Index c = 0; c < chunks; ++c) {
+    const int first = chunk_start_[c], last = chunk_start_[c + 1];
+    // y_i of the chunk collects B^T x_i from the chunk's earlier rows, then its own row.
+    std::fill(yp + 4 * first, yp + 4 * last, 0.0);
+    for (int i = first; i < last; ++i) {
+      const v4d xi = load4(xp + 4 * i);
+      const v4d x0 = {xi[0], xi[0], xi[0], xi[0]}, x1 = {xi[1], xi[1], xi[1], xi[1]}, x2 = {xi[2], xi[2], xi[2], xi[2]};
+      v4d a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
+      for (int k = row_start_[i]; k < chunk_lower_[i]; ++k) {  // pairs with earlier chunks
+        const double* b = val + 9 * k;
+        const v4d xj = load4(xp + 4 * columns_[k]);
+        a0 += load4(b) * xj;
+        a1 += load4(b + 3) * xj;
+        a2 += load4(b + 6) * xj;
+      }
+      {
+        const double* b = val + 9 * diagonal_[i];
+        a0 += load4(b) * xi;
+        a1 += load4(b + 3) * xi;
+        const v4d last_row = {b[6], b[7], b[8], 0.0};  // the matrix's last block ends here
+        a2 += last_row * xi;
+      }
+      for (int k = diagonal_[i] + 1; k < chunk_upper_[i]; ++k) {  // in-chunk pairs: both products
+        const double* b = val + 9 * k;
+        const int j = columns_[k];
+        const v4d xj = load4(xp + 4 * j);
+        const v4d b0 = load4(b), b1 = load4(b + 3), b2 = load4(b + 6);
+        a0 += b0 * xj;
+        a1 += b1 * xj;
+        a2 += b2 * xj;
+        v4d yj = load4(yp + 4 * j);
+        yj += b0 * x0 + b1 * x1 + b2 * x2;
+        std::memcpy(yp + 4 * j, &yj, sizeof yj);
+      }
+      for (int k = chunk_upper_[i]; k < row_start_[i + 1]; ++k) {  // pairs with later chunks
+        const double* b = val + 9 * k;
+        const v4d xj = load4(xp + 4 * columns_[k]);
+        a0 += load4(b) * xj;
+        a1 += load4(b + 3) * xj;
+        a2 += load4(b + 6) * xj;
+      }
+      yp[4 * i] += sum3(a0);
+      yp[4 * i + 1] += sum3(a1);
+      yp[4 * i + 2] += sum3(a2);
+    }
+  }
+}
+
+void BlockSparseMatrix::multiply_symmetric(const Vec& x, Vec& y) const {
+  const Index n = num_nodes();
+  thread_local std::vector<double> xpad, ypad;
+  xpad.resize(4 * n);
+  ypad.resize(4 * n);
+  for (Index i = 0; i < n; ++i) {
+    xpad[4 * i] = x[3 * i];
+    xpad[4 * i + 1] = x[3 * i + 1];
+    xpad[4 * i + 2] = x[3 * i + 2];
+    xpad[4 * i + 3] = 0.0;
+  }
+  symmetric_kernel(xpad.data(), ypad.data());
+  for (Index i = 0; i < n; ++i) {
+    y[3 * i] = ypad[4 * i];
+    y[3 * i + 1] = ypad[4 * i + 1];
+    y[3 * i + 2] = ypad[4 * i + 2];
+  }
+}
+
+bool BlockSparseMatrix::is_symmetric(double relative_tolerance) const {
+  double largest = 0.0;
+  for (double v : values_) largest = std::max(largest, std::abs(v));
+  const double tolerance = relative_tolerance * largest;
+  for (Index i = 0; i < num_nodes(); ++i)
+    for (int k = row_start_[i]; k < row_start_[i + 1]; ++k) {
+      const int t = block_index(columns_[k], i);
+      if (t < 0 || !((block(k) - block(t).transpose()).cwiseAbs().maxCoeff() <= tolerance)) return false;
+    }
+  return true;
 }
 
 void BlockSparseMatrix::copy_to(Eigen::SparseMatrix<double, Eigen::ColMajor, int>& out) const {
