@@ -191,6 +191,11 @@ TEST(auto_preconditioner_factorizes_small_systems_and_builds_two_levels_for_larg
     if (expected == PreconditionerKind::ReferenceFactor)
       CHECK_NEAR((z - r).norm(), 0.0, 1e-6 * r.norm());  // A = I exactly (a float factor: 1e-6)
     else CHECK(z.allFinite() && r.dot(z) > 0);  // a V-cycle: SPD, not exact
+    // A reset chooses afresh, with the geometry it was given before (the two-level needs it).
+    pc.reset();
+    CHECK(pc.chosen() == PreconditionerKind::Auto);
+    pc.compute(A);
+    CHECK(pc.chosen() == expected);
   }
   CHECK(PCGSettings{}.preconditioner == PreconditionerKind::Auto);
 }

@@ -69,6 +69,7 @@ void AutoPreconditioner::compute(const BlockSparseMatrix& A) {
     chosen_ = make_preconditioner(kind_);
     if (rest_.cols() != 0) chosen_->set_geometry(rest_);
     if (positions_.cols() != 0) chosen_->set_positions(positions_);
+    positions_ = Nodes();
   }
   chosen_->compute(A);
 }

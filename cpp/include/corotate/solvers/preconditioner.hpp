@@ -109,14 +109,18 @@ inline constexpr Index kAutoFactorDofs = 6000;
 
 class AutoPreconditioner final : public Preconditioner {
  public:
-  void reset() override { chosen_.reset(); }
-  void set_geometry(const Nodes& rest) override {
+  void reset() override {
+    chosen_.reset();
+    kind_ = PreconditionerKind::Auto;
+  }
+  void set_geometry(const Nodes& rest) override {  // kept: a reset() chooses again
     rest_ = rest;
     if (chosen_) chosen_->set_geometry(rest);
   }
+  // Kept only until the choice, then passed straight on (no second copy per step).
   void set_positions(const Nodes& x) override {
-    positions_ = x;
     if (chosen_) chosen_->set_positions(x);
+    else positions_ = x;
   }
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override { chosen_->apply(r, z); }
