@@ -4,6 +4,7 @@
 #include <set>
 
 #include "corotate/parallel.hpp"
+#include "corotate/sparse/single_precision_symmetric.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
 
@@ -152,4 +153,58 @@ TEST(is_symmetric_sees_one_changed_entry) {
   CHECK(A.is_symmetric(1e-14));  // within 1e-14 of the largest entry (~1)
   A.block(k)(2, 1) += 1e-3;
   CHECK(!A.is_symmetric(1e-12));
+}
+
+TEST(single_precision_product_is_the_double_one_to_float_rounding) {
+  for (const auto& dims : {std::array<int, 3>{3, 2, 2}, {30, 6, 6}, {40, 8, 8}}) {
+    const BlockSparseMatrix A = random_symmetric(dims[0], dims[1], dims[2]);
+    const Vec x = fixtures::random_matrix<Vec>(A.num_dofs(), 1);
+    Vec exact(A.num_dofs()), single = Vec::Constant(A.num_dofs(), 7.0);  // overwritten
+    A.multiply(x, exact);
+    SinglePrecisionSymmetric S;
+    S.assign(A);
+    S.multiply(x, single);
+    // Each value rounded once to float (relative 6e-8), the sums in double: the error is
+    // about 6e-8 times the sum of |a||x| over a row's ~45 terms, and it is not zero (the copy
+    // really is float).
+    const Vec magnitude = to_dense(A).cwiseAbs() * x.cwiseAbs();
+    const double error = ((single - exact).cwiseAbs().array() / magnitude.array()).maxCoeff();
+    CHECK(error < 1.2e-7);
+    CHECK(error > 1e-10);
+    if (have_openmp()) {
+      const int before = num_threads();
+      set_num_threads(2);
+      Vec threaded(A.num_dofs());
+      S.multiply(x, threaded);
+      CHECK(threaded == single);  // the same row chunks: to the bit
+      set_num_threads(before);
+    }
+  }
+}
+
+TEST(single_precision_copy_scales_matrices_beyond_float_range_and_follows_reassignment) {
+  BlockSparseMatrix A = random_symmetric(3, 2, 2);
+  const Vec x = fixtures::random_matrix<Vec>(A.num_dofs(), 1);
+  Vec exact(A.num_dofs()), single(A.num_dofs());
+  SinglePrecisionSymmetric S;
+  // 1e-300 and 1e300 are far outside float's range (1e-38 to 3e38): unscaled, the copy
+  // would be all zeros or all infinities.
+  for (double scale : {1e-300, 1.0, 1e300}) {
+    BlockSparseMatrix B = A;
+    B.assign_scaled(scale, A);
+    B.multiply(x, exact);
+    S.assign(B);
+    S.multiply(x, single);
+    CHECK(single.allFinite());
+    CHECK((single - exact).norm() <= 1e-6 * exact.norm());
+  }
+  // A matrix of another pattern gets a layout of its own.
+  const BlockSparseMatrix C = random_symmetric(4, 2, 2);
+  const Vec xc = fixtures::random_matrix<Vec>(C.num_dofs(), 1);
+  Vec exact_c(C.num_dofs()), single_c(C.num_dofs());
+  C.multiply(xc, exact_c);
+  S.assign(C);
+  CHECK(S.num_nodes() == C.num_nodes());
+  S.multiply(xc, single_c);
+  CHECK((single_c - exact_c).norm() <= 1e-6 * exact_c.norm());
 }

@@ -141,7 +141,7 @@ void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
     rotations_.update(positions_);
   }
   positions_pending_ = false;
-  A_ = &A;
+  A_single_.assign(A);
   diagonal_.compute(A);
 }
 
@@ -153,7 +153,7 @@ void TwoLevelPreconditioner::smooth(const Vec& r, Vec& z) {
 void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   // Symmetric V(1,1): smooth, coarse-correct (with P(x) = R(x) P), smooth.
   smooth(r, z);
-  A_->multiply_symmetric(z, residual_);
+  A_single_.multiply(z, residual_);
   residual_ = r - residual_;
   if (rotations_.rotated()) {
     rotations_.to_built_frame(residual_, turned_);
@@ -168,7 +168,7 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   } else {
     prolongator_.prolong(coarse_solution_, z, true);
   }
-  A_->multiply_symmetric(z, residual_);
+  A_single_.multiply(z, residual_);
   residual_ = r - residual_;
   smooth(residual_, correction_);
   z += correction_;

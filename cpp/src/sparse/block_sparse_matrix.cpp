@@ -6,6 +6,7 @@
 
 #include "corotate/cpu_clones.hpp"
 #include "corotate/parallel.hpp"
+#include "corotate/sparse/padded_vectors.hpp"
 
 namespace corotate {
 
@@ -94,21 +95,6 @@ void BlockSparseMatrix::multiply(const Vec& x, Vec& y) const {
   }
 }
 
-namespace {
-
-// Four doubles from any address (unaligned); a GCC vector type, so each CPU clone uses its
-// own vector width. A block row loaded this way brings the next value along (the next row's
-// first, or the next block's); it meets x's zero fourth entry, or lands in y's unused fourth.
-typedef double v4d __attribute__((vector_size(32)));
-COROTATE_CLONE_INLINE v4d load4(const double* p) {
-  v4d v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-COROTATE_CLONE_INLINE double sum3(v4d v) { return v[0] + v[1] + v[2]; }
-
-}  // namespace
-
 COROTATE_CPU_CLONES void BlockSparseMatrix::symmetric_kernel(const double* xp, double* yp) const {
   const Index chunks = num_chunks();
   const double* val = values_.data();
@@ -162,22 +148,7 @@ COROTATE_CPU_CLONES void BlockSparseMatrix::symmetric_kernel(const double* xp, d
 }
 
 void BlockSparseMatrix::multiply_symmetric(const Vec& x, Vec& y) const {
-  const Index n = num_nodes();
-  thread_local std::vector<double> xpad, ypad;
-  xpad.resize(4 * n);
-  ypad.resize(4 * n);
-  for (Index i = 0; i < n; ++i) {
-    xpad[4 * i] = x[3 * i];
-    xpad[4 * i + 1] = x[3 * i + 1];
-    xpad[4 * i + 2] = x[3 * i + 2];
-    xpad[4 * i + 3] = 0.0;
-  }
-  symmetric_kernel(xpad.data(), ypad.data());
-  for (Index i = 0; i < n; ++i) {
-    y[3 * i] = ypad[4 * i];
-    y[3 * i + 1] = ypad[4 * i + 1];
-    y[3 * i + 2] = ypad[4 * i + 2];
-  }
+  padded_product(x, y, [this](const double* x4, double* y4) { symmetric_kernel(x4, y4); });
 }
 
 bool BlockSparseMatrix::is_symmetric(double relative_tolerance) const {

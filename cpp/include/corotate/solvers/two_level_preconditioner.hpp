@@ -6,7 +6,8 @@
 // is smoothed once by damped Jacobi, P = (I - w D^-1 A0) P_tent, and the coarse matrix
 // Pc = P^T A0 P of the first system it sees (the rest state) is factorized once. Each
 // application is a symmetric V(1,1) cycle: damped block-Jacobi smoothing with the current
-// matrix, coarse correction with the fixed factor, smoothing again. Setup costs a few
+// matrix (its residual products from a float32 copy), coarse correction with the fixed
+// factor, smoothing again. Setup costs a few
 // sparse products instead of a fine-level factorization whose fill grows as n^(4/3) or
 // worse; an application costs three matrix-vector products' worth of work.
 //
@@ -32,6 +33,7 @@
 #include "corotate/solvers/block_prolongator.hpp"
 #include "corotate/solvers/preconditioner.hpp"
 #include "corotate/solvers/sparse_cholesky.hpp"
+#include "corotate/sparse/single_precision_symmetric.hpp"
 
 namespace corotate {
 
@@ -63,7 +65,9 @@ class TwoLevelPreconditioner final : public Preconditioner {
   bool positions_pending_ = false;  // set_positions since the last compute
   AggregateRotations rotations_;  // the aggregates and their turn since the build
   bool ready_ = false;
-  const BlockSparseMatrix* A_ = nullptr;  // current system matrix (set by compute)
+  // The current system matrix (set by compute) in float32 for the cycle's two products
+  // (single_precision_symmetric.hpp: half the bytes; CG's own product stays in double).
+  SinglePrecisionSymmetric A_single_;
   BlockJacobiPreconditioner diagonal_;
   BlockProlongator prolongator_;  // P (3n x at most 6m) for P c and P^T r
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> coarse_;

@@ -58,6 +58,11 @@ class BlockSparseMatrix {
   // largest entry (0: to the bit).
   bool is_symmetric(double relative_tolerance = 0.0) const;
   Index num_chunks() const { return static_cast<Index>(chunk_start_.size()) - 1; }
+  // multiply_symmetric's row chunks (num_chunks() + 1 starts) and, per row, its in-chunk
+  // blocks [chunk_lower(i), chunk_upper(i)).
+  const std::vector<int>& chunk_start() const { return chunk_start_; }
+  int chunk_lower(Index i) const { return chunk_lower_[i]; }
+  int chunk_upper(Index i) const { return chunk_upper_[i]; }
 
   // Scalar CSR copy (symmetric, so it is also the CSC form) for direct solvers.
   // The pattern is built by the first call; later calls only copy values.

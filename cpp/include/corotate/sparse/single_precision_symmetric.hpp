@@ -1,0 +1,54 @@
+// A float32 copy of a symmetric block-sparse matrix for products inside a preconditioner.
+//
+// A product with the system matrix reads every stored value once, and at 15,360 tets those
+// values (the upper blocks that BlockSparseMatrix::multiply_symmetric reads) are 2 MB of
+// doubles: the product is bound by the bytes it moves. The two-level preconditioner makes
+// two such products per application, and a preconditioner only has to be a fixed symmetric
+// positive definite operator, not the exact matrix, so these products may use the values
+// rounded to float32 (relative error 6e-8) with the sums kept in double: half the bytes,
+// and at that size the copy fits one core's L2 cache. CG's own product and residual stay in
+// double, so the solution and its tolerance are unchanged.
+//
+// The copy stores, row by row, exactly the blocks multiply_symmetric reads (those across
+// row chunks on both sides, the diagonal, the upper ones inside the chunk) in the order it
+// reads them, so the product streams through one array. Values are scaled by a power of two
+// that brings the largest to about one, so float32's range never overflows or flushes a
+// matrix whose entries are all huge or all tiny; the scaling is exact.
+#pragma once
+
+#include <vector>
+
+#include "corotate/sparse/block_sparse_matrix.hpp"
+
+namespace corotate {
+
+class SinglePrecisionSymmetric {
+ public:
+  // Copies A's values; builds the layout on the first call and whenever A's pattern differs
+  // from the one it was built for. A must be exactly symmetric (as for multiply_symmetric).
+  void assign(const BlockSparseMatrix& A);
+  // y = A x with A the copy assigned last (x, y: num_dofs(); no allocation once sized).
+  // Same row chunks as multiply_symmetric: the same bits on any thread count.
+  void multiply(const Vec& x, Vec& y) const;
+  Index num_nodes() const { return static_cast<Index>(row_first_.size()) - 1; }
+  Index num_blocks() const { return static_cast<Index>(columns_.size()); }
+
+ private:
+  void build_layout(const BlockSparseMatrix& A);
+  void kernel(const double* x4, double* y4) const;
+
+  // The pattern the layout was built for (a different matrix of the same pattern reuses it).
+  std::vector<int> pattern_rows_;
+  const int* pattern_columns_ = nullptr;
+  Index pattern_blocks_ = -1;
+  std::vector<int> chunk_start_;  // A's row chunks
+  // Per row i, its stored blocks are [row_first_[i], row_first_[i + 1]): first those whose
+  // column lies before the row's chunk, then the diagonal at diagonal_[i], then the upper
+  // ones inside the chunk up to chunk_end_[i], then those after the chunk.
+  std::vector<int> row_first_, diagonal_, chunk_end_;
+  std::vector<int> columns_;  // column of each stored block
+  std::vector<float> values_;  // 9 per stored block, row-major, scaled; 4 floats of padding
+  double unscale_ = 1.0;       // the power of two the values were divided by
+};
+
+}  // namespace corotate

@@ -1,0 +1,129 @@
+#include "corotate/sparse/single_precision_symmetric.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "corotate/cpu_clones.hpp"
+#include "corotate/parallel.hpp"
+#include "corotate/sparse/padded_vectors.hpp"
+
+namespace corotate {
+
+namespace {
+// out[k] = scale * [first, last)[k] in float; returns the end of what it wrote.
+COROTATE_CLONE_INLINE float* convert(const double* first, const double* last, double scale, float* out) {
+  for (; first != last; ++first, ++out) *out = static_cast<float>(scale * *first);
+  return out;
+}
+}  // namespace
+
+void SinglePrecisionSymmetric::build_layout(const BlockSparseMatrix& A) {
+  const Index n = A.num_nodes();
+  const auto& rows = A.row_start();
+  chunk_start_ = A.chunk_start();
+  row_first_.assign(1, 0);
+  diagonal_.resize(n);
+  chunk_end_.resize(n);
+  columns_.clear();
+  const auto& cols = A.columns();
+  for (Index i = 0; i < n; ++i) {
+    columns_.insert(columns_.end(), cols.begin() + rows[i], cols.begin() + A.chunk_lower(i));
+    diagonal_[i] = static_cast<int>(columns_.size());
+    columns_.insert(columns_.end(), cols.begin() + A.diagonal_block(i), cols.begin() + rows[i + 1]);
+    chunk_end_[i] = diagonal_[i] + (A.chunk_upper(i) - A.diagonal_block(i));
+    row_first_.push_back(static_cast<int>(columns_.size()));
+  }
+  values_.assign(9 * columns_.size() + 4, 0.0f);  // the padding: load4 past the last block
+  pattern_rows_ = rows;
+  pattern_columns_ = A.columns().data();
+  pattern_blocks_ = A.num_blocks();
+}
+
+COROTATE_CPU_CLONES void SinglePrecisionSymmetric::assign(const BlockSparseMatrix& A) {
+  // Same pattern: the same arrays (not a new matrix that reuses freed memory: the row
+  // starts must match too, a cheap n-int comparison next to the 9-values-per-block copy).
+  if (A.columns().data() != pattern_columns_ || A.num_blocks() != pattern_blocks_ || A.row_start() != pattern_rows_)
+    build_layout(A);
+  // The largest diagonal entry bounds every entry of a positive definite matrix, and the
+  // scale needs only be about right: a power of two, so scaling and unscaling are exact. A
+  // zero or non-finite diagonal keeps 1 (non-finite values reach the product as in double).
+  const double* src = A.values().data();
+  double largest = 0.0;
+  for (Index i = 0, n = num_nodes(); i < n; ++i) {
+    const double* d = src + 9 * A.diagonal_block(i);
+    largest = std::max({largest, std::abs(d[0]), std::abs(d[4]), std::abs(d[8])});
+  }
+  int exponent = 0;
+  if (largest > 0 && std::isfinite(largest)) std::frexp(largest, &exponent);
+  unscale_ = std::ldexp(1.0, exponent);
+  const double scale = std::ldexp(1.0, -exponent);
+  // Row by row, the stored blocks are two runs of A's: [row start, chunk_lower) and
+  // [diagonal, row end); each run converts as one flat loop (vectorised).
+  const auto& rows = A.row_start();
+  float* dst = values_.data();
+  const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
+  COROTATE_PARALLEL_FOR(chunks > 1)
+  for (Index c = 0; c < chunks; ++c)
+    for (int i = chunk_start_[c]; i < chunk_start_[c + 1]; ++i) {
+      float* out = dst + 9 * row_first_[i];
+      out = convert(src + 9 * rows[i], src + 9 * A.chunk_lower(i), scale, out);
+      convert(src + 9 * A.diagonal_block(i), src + 9 * rows[i + 1], scale, out);
+    }
+}
+
+// BlockSparseMatrix::symmetric_kernel over the float copy (see there for the chunk logic).
+COROTATE_CPU_CLONES void SinglePrecisionSymmetric::kernel(const double* xp, double* yp) const {
+  const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
+  const float* val = values_.data();
+  COROTATE_PARALLEL_FOR(chunks > 1)
+  for (Index c = 0; c < chunks; ++c) {
+    const int first = chunk_start_[c], last = chunk_start_[c + 1];
+    std::fill(yp + 4 * first, yp + 4 * last, 0.0);
+    for (int i = first; i < last; ++i) {
+      const v4d xi = load4(xp + 4 * i);
+      const v4d x0 = {xi[0], xi[0], xi[0], xi[0]}, x1 = {xi[1], xi[1], xi[1], xi[1]}, x2 = {xi[2], xi[2], xi[2], xi[2]};
+      v4d a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
+      for (int k = row_first_[i]; k < diagonal_[i]; ++k) {  // pairs with earlier chunks
+        const float* b = val + 9 * k;
+        const v4d xj = load4(xp + 4 * columns_[k]);
+        a0 += load4(b) * xj;
+        a1 += load4(b + 3) * xj;
+        a2 += load4(b + 6) * xj;
+      }
+      {
+        const float* b = val + 9 * diagonal_[i];
+        a0 += load4(b) * xi;
+        a1 += load4(b + 3) * xi;
+        a2 += load4(b + 6) * xi;  // the fourth value meets x's zero
+      }
+      for (int k = diagonal_[i] + 1; k < chunk_end_[i]; ++k) {  // in-chunk pairs: both products
+        const float* b = val + 9 * k;
+        const int j = columns_[k];
+        const v4d xj = load4(xp + 4 * j);
+        const v4d b0 = load4(b), b1 = load4(b + 3), b2 = load4(b + 6);
+        a0 += b0 * xj;
+        a1 += b1 * xj;
+        a2 += b2 * xj;
+        v4d yj = load4(yp + 4 * j);
+        yj += b0 * x0 + b1 * x1 + b2 * x2;
+        std::memcpy(yp + 4 * j, &yj, sizeof yj);
+      }
+      for (int k = chunk_end_[i]; k < row_first_[i + 1]; ++k) {  // pairs with later chunks
+        const float* b = val + 9 * k;
+        const v4d xj = load4(xp + 4 * columns_[k]);
+        a0 += load4(b) * xj;
+        a1 += load4(b + 3) * xj;
+        a2 += load4(b + 6) * xj;
+      }
+      yp[4 * i] += sum3(a0);
+      yp[4 * i + 1] += sum3(a1);
+      yp[4 * i + 2] += sum3(a2);
+    }
+  }
+}
+
+void SinglePrecisionSymmetric::multiply(const Vec& x, Vec& y) const {
+  padded_product(x, y, [this](const double* x4, double* y4) { kernel(x4, y4); }, unscale_);
+}
+
+}  // namespace corotate
