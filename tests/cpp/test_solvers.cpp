@@ -4,6 +4,7 @@
 
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
+#include "corotate/solvers/two_level_preconditioner.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
 
@@ -233,4 +234,34 @@ TEST(a_warm_start_that_only_just_meets_the_tolerance_still_iterates) {
     CHECK(stats.iterations == iterations);
     CHECK(relative_residual(p.system.A, x, p.b) <= std::max(start, 1e-2));
   }
+}
+
+TEST(preconditioners_ask_for_the_lower_blocks_only_when_they_build) {
+  // The step assembles only the blocks multiply_symmetric reads unless the solve needs more
+  // (Request::lower_blocks): a preconditioner that factorizes or builds a hierarchy reads
+  // the whole matrix, and only then.
+  const Problem p;
+  CHECK(!BlockJacobiPreconditioner().needs_lower_blocks());
+  CHECK(!JacobiPreconditioner().needs_lower_blocks());
+  ReferenceFactorPreconditioner factor;
+  CHECK(factor.needs_lower_blocks());
+  factor.compute(p.system.A);
+  CHECK(!factor.needs_lower_blocks());
+  factor.solved(false);  // at the cap: the next compute factorizes again
+  CHECK(factor.needs_lower_blocks());
+  factor.compute(p.system.A);
+  CHECK(!factor.needs_lower_blocks());
+  TwoLevelPreconditioner two_level;
+  two_level.set_geometry(p.mesh.points);
+  CHECK(two_level.needs_lower_blocks());
+  two_level.compute(p.system.A);
+  CHECK(!two_level.needs_lower_blocks());
+  two_level.reset();
+  CHECK(two_level.needs_lower_blocks());
+  PCG pcg;  // auto: asks before it has chosen, then as the one it chose
+  CHECK(pcg.needs_lower_blocks());
+  Vec x = Vec::Zero(p.b.size());
+  pcg.solve(p.system.A, p.b, x);
+  CHECK(!pcg.needs_lower_blocks());
+  CHECK(DirectSolver().needs_lower_blocks());
 }

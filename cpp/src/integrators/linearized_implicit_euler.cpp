@@ -27,8 +27,12 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     // elements gives them and A, with no matrix-vector product.
     force_ = in.load;
     y_ = in.x + (dt + beta) * in.v;
-    system_.assign_scaled(1 + dt * alpha, mass_);
+    // Only the blocks the solve reads: a third fewer to add (a PCG whose preconditioner is
+    // built reads the rest only when it rebuilds).
+    const bool lower_blocks = in.solver.needs_lower_blocks();
+    system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
     Request what;
+    what.lower_blocks = lower_blocks;
     what.forces = true;
     what.energy = in.diagnose;  // at x, in the same sweep: for the simulation's run-away checks
     what.count_inverted = in.diagnose;

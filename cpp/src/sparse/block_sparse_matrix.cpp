@@ -67,10 +67,21 @@ int BlockSparseMatrix::block_index(Index i, Index j) const {
 
 void BlockSparseMatrix::set_zero() { std::fill(values_.begin(), values_.end(), 0.0); }
 
-void BlockSparseMatrix::assign_scaled(double a, const BlockSparseMatrix& other) {
+void BlockSparseMatrix::assign_scaled(double a, const BlockSparseMatrix& other, bool lower_blocks) {
   const double* src = other.values_.data();
   double* dst = values_.data();
-  for (size_t k = 0, n = values_.size(); k < n; ++k) dst[k] = a * src[k];
+  if (lower_blocks) {
+    for (size_t k = 0, n = values_.size(); k < n; ++k) dst[k] = a * src[k];
+    return;
+  }
+  // Row by row, the product blocks are two runs: [row start, chunk_lower) and [diagonal, row end).
+  auto run = [&](int first, int last) {
+    for (int k = 9 * first; k < 9 * last; ++k) dst[k] = a * src[k];
+  };
+  for (Index i = 0, n = num_nodes(); i < n; ++i) {
+    run(row_start_[i], chunk_lower_[i]);
+    run(diagonal_[i], row_start_[i + 1]);
+  }
 }
 
 void BlockSparseMatrix::multiply(const Vec& x, Vec& y) const {

@@ -128,6 +128,7 @@ class AssembledModel final : public ForceModel {
   bool project_psd_;
   BlockSparseMatrix pattern_;
   std::vector<int> block_ids_;  // N * N per element: global block of element block (a, b)
+  std::vector<ProductBlockTargets<N>> product_targets_;  // per element, for batched kernels
   std::vector<typename Kernel::Element> elements_;  // empty for constant-stiffness kernels
   std::vector<typename Kernel::Cache> caches_, saved_caches_;
   std::vector<ElementMass<N>> masses_;
@@ -191,6 +192,14 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
   } else {
     caches_.resize(m);
     colour_chunks();
+    if constexpr (kernel_batches_forces_stiffness<Kernel>) {
+      product_targets_.reserve(m);
+      for (Index e = 0; e < m; ++e) {
+        int nodes[N];
+        for (int a = 0; a < N; ++a) nodes[a] = static_cast<int>(cells(e, a));
+        product_targets_.push_back(product_block_targets<N>(pattern_, block_ids_.data() + e * N * N, nodes));
+      }
+    }
   }
 }
 
@@ -362,7 +371,9 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
                   if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
                   scatter(first + b, batch, b, *out.forces);
                 }
-                add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
+                if (what.lower_blocks)
+                  add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
+                else add_batch_product_blocks(batch, count, &product_targets_[first], out.stiffness->values().data());
                 continue;
               }
             }

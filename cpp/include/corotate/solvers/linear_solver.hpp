@@ -40,6 +40,10 @@ class LinearSolver {
   // Solve A x = b. x holds the initial guess on entry (used by warm-started iterative
   // solvers) and the solution on exit.
   virtual SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) = 0;
+  // Whether the next solve reads blocks that BlockSparseMatrix::multiply_symmetric does not
+  // (BlockSparseMatrix::is_product_block): if not, the step may skip assembling them
+  // (Request::lower_blocks).
+  virtual bool needs_lower_blocks() const { return true; }
 };
 
 }  // namespace corotate

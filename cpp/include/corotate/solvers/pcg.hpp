@@ -36,6 +36,8 @@ class PCG final : public LinearSolver {
   void set_geometry(const Nodes& rest) override { preconditioner_->set_geometry(rest); }
   void set_positions(const Nodes& x) override { preconditioner_->set_positions(x); }
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
+  // CG reads A through multiply_symmetric only: the preconditioner decides.
+  bool needs_lower_blocks() const override { return preconditioner_->needs_lower_blocks(); }
 
  private:
   PCGSettings settings_;

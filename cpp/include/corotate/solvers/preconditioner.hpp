@@ -26,6 +26,9 @@ class Preconditioner {
   // Told after each solve whether CG reached its tolerance within its cap: preconditioners
   // built once may rebuild when they stop paying.
   virtual void solved(bool /*converged*/) {}
+  // Whether the next compute() or apply() reads blocks that multiply_symmetric does not
+  // (BlockSparseMatrix::is_product_block); true unless a preconditioner knows better.
+  virtual bool needs_lower_blocks() const { return true; }
 };
 
 // No preconditioning (plain CG): z = r.
@@ -33,6 +36,7 @@ class IdentityPreconditioner final : public Preconditioner {
  public:
   void compute(const BlockSparseMatrix&) override {}
   void apply(const Vec& r, Vec& z) override { z = r; }
+  bool needs_lower_blocks() const override { return false; }
 };
 
 // Inverse of the diagonal.
@@ -40,6 +44,7 @@ class JacobiPreconditioner final : public Preconditioner {
  public:
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override { z = inverse_diagonal_.cwiseProduct(r); }
+  bool needs_lower_blocks() const override { return false; }
 
  private:
   Vec inverse_diagonal_;
@@ -52,6 +57,7 @@ class BlockJacobiPreconditioner final : public Preconditioner {
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
   const Mat3& inverse_block(Index node) const { return inverse_blocks_[node]; }
+  bool needs_lower_blocks() const override { return false; }  // the diagonal blocks only
 
  private:
   std::vector<Mat3> inverse_blocks_;
@@ -82,6 +88,8 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
   void solved(bool converged) override { refresh_ = refresh_ || !converged; }
+  // Only to factorize (the first system, or after a capped solve).
+  bool needs_lower_blocks() const override { return factor_.empty() || refresh_; }
   // Factorizations so far (the first and every refresh).
   int factorizations() const { return factorizations_; }
 
@@ -125,6 +133,7 @@ class AutoPreconditioner final : public Preconditioner {
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override { chosen_->apply(r, z); }
   void solved(bool converged) override { chosen_->solved(converged); }
+  bool needs_lower_blocks() const override { return !chosen_ || chosen_->needs_lower_blocks(); }
   // ReferenceFactor or TwoLevel once a system was seen; Auto before.
   PreconditionerKind chosen() const { return kind_; }
 

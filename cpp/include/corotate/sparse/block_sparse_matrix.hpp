@@ -41,8 +41,9 @@ class BlockSparseMatrix {
   const std::vector<int>& columns() const { return columns_; }
 
   void set_zero();
-  // this = a * other (same pattern); no allocation.
-  void assign_scaled(double a, const BlockSparseMatrix& other);
+  // this = a * other (same pattern); no allocation. With lower_blocks false only the blocks
+  // multiply_symmetric reads (is_product_block) are assigned; the rest keep what they held.
+  void assign_scaled(double a, const BlockSparseMatrix& other, bool lower_blocks = true);
   // y = A x (x, y: num_dofs()).
   void multiply(const Vec& x, Vec& y) const;
   // y = A x for an exactly symmetric A (the system matrices of a step: assembly mirrors each
@@ -63,6 +64,10 @@ class BlockSparseMatrix {
   const std::vector<int>& chunk_start() const { return chunk_start_; }
   int chunk_lower(Index i) const { return chunk_lower_[i]; }
   int chunk_upper(Index i) const { return chunk_upper_[i]; }
+  // Whether multiply_symmetric reads block k of row i: the diagonal, every block above it,
+  // and the blocks below it whose column lies in an earlier row chunk. The others (below the
+  // diagonal, inside the row's chunk) it takes as the transposes of their mirrors.
+  bool is_product_block(Index i, int k) const { return k < chunk_lower_[i] || k >= diagonal_[i]; }
 
   // Scalar CSR copy (symmetric, so it is also the CSC form) for direct solvers.
   // The pattern is built by the first call; later calls only copy values.
