@@ -2,6 +2,8 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "corotate/solvers/supernodal_solve.hpp"
+
 #ifdef COROTATE_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
 #endif
@@ -16,49 +18,22 @@ struct SupernodalLLT : Eigen::CholmodSupernodalLLT<SparseCholesky::Matrix, Eigen
   const cholmod_factor* factor() const { return m_cholmodFactor; }
 };
 
-// x = A^-1 b from the supernodal factor P A P^T = L L^T: the two triangular sweeps over the
-// supernodes with Eigen's dense kernels. cholmod_solve does the same through BLAS (dtrsv,
-// dgemv), which Debian's reference BLAS runs as unvectorised loops (15 % of a step at
-// 122,880 tets), and allocates its result on every call. work: n + the tallest supernode.
-template <typename Scalar>
-void supernodal_solve(const cholmod_factor& L, const Scalar* values, const Vec& b, Vec& x,
-                      Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& y, Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& gathered) {
-  using Panel = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>, 0, Eigen::OuterStride<>>;
-  const Index n = static_cast<Index>(L.n);
-  const int* perm = static_cast<const int*>(L.Perm);
-  const int* super = static_cast<const int*>(L.super);
-  const int* pi = static_cast<const int*>(L.pi);
-  const int* px = static_cast<const int*>(L.px);
-  const int* rows = static_cast<const int*>(L.s);
-  const Index supernodes = static_cast<Index>(L.nsuper);
-  y.resize(n);
-  gathered.resize(static_cast<Index>(L.maxesize));
-  for (Index k = 0; k < n; ++k) y[k] = static_cast<Scalar>(b[perm[k]]);
-  for (Index s = 0; s < supernodes; ++s) {  // L y' = y
-    const int first = super[s], cols = super[s + 1] - first, height = pi[s + 1] - pi[s], below = height - cols;
-    const Panel panel(values + px[s], height, cols, Eigen::OuterStride<>(height));
-    auto ys = y.segment(first, cols);
-    panel.topRows(cols).template triangularView<Eigen::Lower>().solveInPlace(ys);
-    if (below == 0) continue;
-    auto update = gathered.head(below);
-    update.noalias() = panel.bottomRows(below) * ys;
-    const int* below_rows = rows + pi[s] + cols;
-    for (int r = 0; r < below; ++r) y[below_rows[r]] -= update[r];
-  }
-  for (Index s = supernodes - 1; s >= 0; --s) {  // L^T y' = y
-    const int first = super[s], cols = super[s + 1] - first, height = pi[s + 1] - pi[s], below = height - cols;
-    const Panel panel(values + px[s], height, cols, Eigen::OuterStride<>(height));
-    auto ys = y.segment(first, cols);
-    if (below > 0) {
-      auto known = gathered.head(below);
-      const int* below_rows = rows + pi[s] + cols;
-      for (int r = 0; r < below; ++r) known[r] = y[below_rows[r]];
-      ys.noalias() -= panel.bottomRows(below).transpose() * known;
-    }
-    panel.topRows(cols).template triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
-  }
-  x.resize(n);
-  for (Index k = 0; k < n; ++k) x[perm[k]] = y[k];
+// Whether supernodal_solve reads this factor (a supernodal LL^T of doubles, int indices).
+bool readable(const cholmod_factor& L) {
+  return L.is_super && L.is_ll && L.itype == CHOLMOD_INT && L.xtype == CHOLMOD_REAL && L.dtype == CHOLMOD_DOUBLE;
+}
+
+// supernodal_solve.hpp's view of CHOLMOD's supernodal factor.
+SupernodalFactor view_of(const cholmod_factor& L) {
+  SupernodalFactor f;
+  f.n = static_cast<Index>(L.n);
+  f.nsuper = static_cast<Index>(L.nsuper);
+  f.perm = static_cast<const int*>(L.Perm);
+  f.super = static_cast<const int*>(L.super);
+  f.pi = static_cast<const int*>(L.pi);
+  f.px = static_cast<const int*>(L.px);
+  f.rows = static_cast<const int*>(L.s);
+  return f;
 }
 
 }  // namespace
@@ -71,10 +46,12 @@ struct SparseCholesky::Impl {
   Eigen::SimplicialLDLT<Matrix> ldlt;
 #ifdef COROTATE_HAVE_CHOLMOD
   SupernodalLLT cholmod;
-  Vec permuted, gathered;  // work of supernodal_solve
+  SupernodalFactor view;   // of the last factorization
+  SupernodalSplit split;   // for two threads
+  SupernodalWork<double> work;
   bool single = false;               // set_single_precision_solve
   std::vector<float> single_values;  // float copy of the factor's values (made by factorize)
-  Eigen::VectorXf permuted_single, gathered_single;
+  SupernodalWork<float> work_single;
 #endif
 };
 
@@ -125,6 +102,10 @@ bool SparseCholesky::factorize(const Matrix& A) {
   if (impl_->use_cholmod) {
     impl_->cholmod.factorize(A);
     if (impl_->cholmod.info() != Eigen::Success) return false;
+    if (readable(*impl_->cholmod.factor())) {
+      impl_->view = view_of(*impl_->cholmod.factor());
+      impl_->split = SupernodalSplit::of(impl_->view);
+    }
     if (impl_->single) {
       const cholmod_factor* L = impl_->cholmod.factor();
       const double* v = static_cast<const double*>(L->x);
@@ -141,14 +122,12 @@ void SparseCholesky::solve(const Vec& b, Vec& x) const {
 #ifdef COROTATE_HAVE_CHOLMOD
   if (impl_->use_cholmod) {
     const cholmod_factor* L = impl_->cholmod.factor();
-    const bool readable =
-        L->is_super && L->is_ll && L->itype == CHOLMOD_INT && L->xtype == CHOLMOD_REAL && L->dtype == CHOLMOD_DOUBLE;
-    if (!readable) {
+    if (!readable(*L)) {
       x = impl_->cholmod.solve(b);  // not a form supernodal_solve reads (not expected)
     } else if (impl_->single && impl_->single_values.size() == L->xsize) {
-      supernodal_solve(*L, impl_->single_values.data(), b, x, impl_->permuted_single, impl_->gathered_single);
+      supernodal_solve(impl_->view, impl_->split, impl_->single_values.data(), b, x, impl_->work_single);
     } else {
-      supernodal_solve(*L, static_cast<const double*>(L->x), b, x, impl_->permuted, impl_->gathered);
+      supernodal_solve(impl_->view, impl_->split, static_cast<const double*>(L->x), b, x, impl_->work);
     }
     return;
   }
