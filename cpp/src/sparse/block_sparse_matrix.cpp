@@ -70,17 +70,23 @@ void BlockSparseMatrix::set_zero() { std::fill(values_.begin(), values_.end(), 0
 void BlockSparseMatrix::assign_scaled(double a, const BlockSparseMatrix& other, bool lower_blocks) {
   const double* src = other.values_.data();
   double* dst = values_.data();
-  if (lower_blocks) {
-    for (size_t k = 0, n = values_.size(); k < n; ++k) dst[k] = a * src[k];
-    return;
-  }
-  // Row by row, the product blocks are two runs: [row start, chunk_lower) and [diagonal, row end).
-  auto run = [&](int first, int last) {
+  auto run = [&](int first, int last) {  // blocks [first, last)
     for (int k = 9 * first; k < 9 * last; ++k) dst[k] = a * src[k];
   };
-  for (Index i = 0, n = num_nodes(); i < n; ++i) {
-    run(row_start_[i], chunk_lower_[i]);
-    run(diagonal_[i], row_start_[i + 1]);
+  // By row chunks, threaded: a pass over the whole matrix, as long as a product's.
+  const Index chunks = num_chunks();
+  COROTATE_PARALLEL_FOR(chunks > 1)
+  for (Index c = 0; c < chunks; ++c) {
+    const int first = chunk_start_[c], last = chunk_start_[c + 1];
+    if (lower_blocks) {
+      run(row_start_[first], row_start_[last]);
+      continue;
+    }
+    // Row by row, the product blocks are two runs: [row start, chunk_lower), [diagonal, row end).
+    for (int i = first; i < last; ++i) {
+      run(row_start_[i], chunk_lower_[i]);
+      run(diagonal_[i], row_start_[i + 1]);
+    }
   }
 }
 
