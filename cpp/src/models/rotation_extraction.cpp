@@ -102,12 +102,13 @@ COROTATE_CLONE_INLINE void newton_iteration(Lanes<W>& L) {
 
 // Loads F and q into the lanes, F scaled to unit norm. A lane whose F is zero or not finite
 // gets the identity (harmless) and ok = false: the rotation of its q is then the answer.
-template <int W>
-COROTATE_CLONE_INLINE void load_lanes(Lanes<W>& L, bool* ok, const Mat3* F, const Eigen::Quaterniond* q, int n) {
+// F(k, i, j): entry (i, j) of problem k.
+template <int W, class FEntry>
+COROTATE_CLONE_INLINE void load_lanes(Lanes<W>& L, bool* ok, const FEntry& F, const Eigen::Quaterniond* q, int n) {
   for (int l = 0; l < W; ++l) {
     const int k = l < n ? l : 0;  // lanes past n repeat the first problem
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) L.a[3 * i + j][l] = F[k](i, j);
+      for (int j = 0; j < 3; ++j) L.a[3 * i + j][l] = F(k, i, j);
     L.q[0][l] = q[k].w(), L.q[1][l] = q[k].x(), L.q[2][l] = q[k].y(), L.q[3][l] = q[k].z();
   }
   double scale[W];
@@ -164,7 +165,7 @@ COROTATE_CLONE_INLINE bool any_lane_moving(const Lanes<W>& L, const bool* ok, in
 Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
   Lanes<1> L;
   bool ok;
-  load_lanes(L, &ok, &F, &q, 1);
+  load_lanes(L, &ok, [&F](int, int i, int j) { return F(i, j); }, &q, 1);
   if (!ok) return q.toRotationMatrix();
   for (int it = 0; it < kMaxIterations; ++it) {
     newton_iteration(L);
@@ -177,12 +178,19 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
   return R;
 }
 
-COROTATE_CPU_CLONES void extract_rotations(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count) {
+namespace {
+
+// The batched iterations on problems [0, count), kBatch at a time. F(k, i, j) reads entry
+// (i, j) of problem k, store(k, r) takes its rotation as nine row-major values (r[9], any
+// stride via the lambda), fallback(k) solves problem k alone (those that did not converge).
+template <class FEntry, class Store, class Fallback>
+COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* q, const Store& store,
+                                           const Fallback& fallback, int count) {
   for (int first = 0; first < count; first += kBatch) {
     const int n = std::min(kBatch, count - first);
     Lanes<kBatch> L;
     bool ok[kBatch];
-    load_lanes(L, ok, F + first, q + first, n);
+    load_lanes(L, ok, [&](int k, int i, int j) { return F(first + k, i, j); }, q + first, n);
     int it = 0;
     for (; it < kLockstepIterations; ++it) newton_iteration(L);
     for (; it < kMaxLockstepIterations && any_lane_moving(L, ok, n); ++it) newton_iteration(L);
@@ -191,17 +199,46 @@ COROTATE_CPU_CLONES void extract_rotations(const Mat3* F, Eigen::Quaterniond* q,
     for (int l = 0; l < n; ++l) {
       const int k = first + l;
       if (!ok[l]) {
-        R[k] = q[k].toRotationMatrix();
+        const Mat3 R = q[k].toRotationMatrix();
+        double rk[9];
+        for (int c = 0; c < 9; ++c) rk[c] = R(c / 3, c % 3);
+        store(k, rk, 1);
       } else if (L.angle[l] < kConvergedStep) {
         q[k] = lane_quaternion(L, l);
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) R[k](i, j) = r[3 * i + j][l];
+        store(k, &r[0][l], kBatch);
       } else {  // not there yet (a large rotation since the last call, or no finite step)
         if (L.angle[l] <= std::numeric_limits<double>::max()) q[k] = lane_quaternion(L, l);
-        R[k] = extract_rotation(F[k], q[k]);
+        fallback(k);
       }
     }
   }
+}
+
+}  // namespace
+
+COROTATE_CPU_CLONES void extract_rotations(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count) {
+  extract_batches([F](int k, int i, int j) { return F[k](i, j); }, q,
+                  [R](int k, const double* r, int stride) {
+                    for (int c = 0; c < 9; ++c) R[k](c / 3, c % 3) = r[c * stride];
+                  },
+                  [&](int k) { R[k] = extract_rotation(F[k], q[k]); }, count);
+}
+
+COROTATE_CPU_CLONES void extract_rotations(const double (&F)[3][3][kRotationLanes], Eigen::Quaterniond* q,
+                                           double (&R)[3][3][kRotationLanes], int count) {
+  extract_batches([&F](int k, int i, int j) { return F[i][j][k]; }, q,
+                  [&R](int k, const double* r, int stride) {
+                    for (int c = 0; c < 9; ++c) R[c / 3][c % 3][k] = r[c * stride];
+                  },
+                  [&](int k) {
+                    Mat3 Fk, Rk;
+                    for (int i = 0; i < 3; ++i)
+                      for (int j = 0; j < 3; ++j) Fk(i, j) = F[i][j][k];
+                    Rk = extract_rotation(Fk, q[k]);
+                    for (int i = 0; i < 3; ++i)
+                      for (int j = 0; j < 3; ++j) R[i][j][k] = Rk(i, j);
+                  },
+                  count);
 }
 
 }  // namespace corotate

@@ -192,7 +192,7 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
   } else {
     caches_.resize(m);
     colour_chunks();
-    if constexpr (kernel_batches_forces_stiffness<Kernel>) {
+    if constexpr (kernel_sweeps_batches<Kernel>) {
       product_targets_.reserve(m);
       for (Index e = 0; e < m; ++e) {
         int nodes[N];
@@ -279,7 +279,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
     // The hot path of the implicit step (forces and the Model stiffness, scattered straight
     // into the global matrix) runs a batch of elements at once where the kernel can.
     bool batched = false;
-    if constexpr (kernel_batches_forces_stiffness<Kernel>)
+    if constexpr (kernel_sweeps_batches<Kernel>)
       batched = kind == StiffnessKind::Model && direct_scatter && what.forces;
     auto element = [&](Index e, const NodeMatrix& xe, const typename Kernel::Frame& frame, NodeMatrix& ye,
                        NodeMatrix& fe, Stiffness& Ke, NodeScalars& k, double& energy, Index& inverted) {
@@ -340,7 +340,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       COROTATE_PARALLEL_FOR(count > 1)
       for (Index i = 0; i < count; ++i) {
         const Index c = chunks[i];
-        NodeMatrix xe[kFrameBatch], ys[kFrameBatch], ye, fe;
+        NodeMatrix xe[kFrameBatch], ye, fe;
         Batch batch;
         typename Kernel::Frame frames[kFrameBatch];
         Stiffness Ke;
@@ -348,34 +348,35 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
         double energy = 0;
         Index inverted = 0;
         try {
-          // The frames (rotations) of kFrameBatch elements at once where the kernel batches
+          // The implicit step's sweep a batch at a time where the kernel batches it; otherwise
+          // the frames (rotations) of kFrameBatch elements at once where the kernel batches
           // them, then the rest element by element.
+          // A batch's energy, inversions, forces and blocks, from the batched kernel's output.
+          auto finish_batch = [&](Index first, int count) {
+            for (int b = 0; b < count; ++b) {
+              if (what.energy) energy += batch.energy[b];
+              if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
+              scatter(first + b, batch, b, *out.forces);
+            }
+            if (what.lower_blocks)
+              add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
+            else add_batch_product_blocks(batch, count, &product_targets_[first], out.stiffness->values().data());
+          };
           for (Index first = c * kChunk, last = std::min(m, first + kChunk); first < last; first += kFrameBatch) {
             const int count = static_cast<int>(std::min<Index>(kFrameBatch, last - first));
+            if constexpr (kernel_sweeps_batches<Kernel>) {
+              if (batched) {
+                kernel_.sweep_batch(&elements_[first], x, linearize ? *what.forces_at : x, cells_.data() + first * N,
+                                    &caches_[first], count, what.stiffness_scale, batch);
+                finish_batch(first, count);
+                continue;
+              }
+            }
             for (int b = 0; b < count; ++b) gather(x, first + b, xe[b]);
             if constexpr (kFrameBatch > 1) {
               kernel_.frames(&elements_[first], xe, &caches_[first], frames, count);
             } else {
               frames[0] = kernel_.frame(elements_[first], xe[0], caches_[first]);
-            }
-            if constexpr (kernel_batches_forces_stiffness<Kernel>) {
-              if (batched) {
-                const NodeMatrix* at = xe;
-                if (linearize) {
-                  for (int b = 0; b < count; ++b) gather(*what.forces_at, first + b, ys[b]);
-                  at = ys;
-                }
-                kernel_.forces_and_stiffness(&elements_[first], frames, xe, at, count, what.stiffness_scale, batch);
-                for (int b = 0; b < count; ++b) {
-                  if (what.energy) energy += batch.energy[b];
-                  if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
-                  scatter(first + b, batch, b, *out.forces);
-                }
-                if (what.lower_blocks)
-                  add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
-                else add_batch_product_blocks(batch, count, &product_targets_[first], out.stiffness->values().data());
-                continue;
-              }
             }
             for (int b = 0; b < count; ++b) element(first + b, xe[b], frames[b], ye, fe, Ke, k, energy, inverted);
           }

@@ -32,12 +32,14 @@
 //   void frames(const Element*, const NodeMatrix* x,          frames() computes up to this many
 //               Cache*, Frame*, int count) const;             consecutive elements' frames at
 //                                                             once, faster than one by one
-//   void forces_and_stiffness(const Element*, const Frame*,   optional (kernels with frame_batch
-//       const NodeMatrix* x, const NodeMatrix* at, int count,  > 1): for count consecutive
-//       double scale, ForceStiffnessBatch<N, frame_batch>&)    elements at once, forces() at
-//       const;                                                 `at`, scale times stiffness(),
-//                                                             and energy() and volume_ratio()
-//                                                             at x: the implicit step's sweep
+//   void sweep_batch(const Element*, const Nodes& x,          optional (kernels with frame_batch
+//       const Nodes& at, const int* nodes, Cache*, int count,  > 1): for count consecutive
+//       double scale, ForceStiffnessBatch<N, frame_batch>&)    elements at once (nodes: their
+//       const;                                                 N node indices each), frame() at
+//                                                             x, forces() at `at`, scale times
+//                                                             stiffness(), energy() and
+//                                                             volume_ratio() at x: the
+//                                                             implicit step's sweep
 //   double energy(const Element&, const Frame&, const NodeMatrix& x) const;
 //   void forces(const Element&, const Frame&, const NodeMatrix& x, NodeMatrix& f) const;
 //                                                             f = the element's nodal forces
@@ -96,7 +98,7 @@ struct ElementMatrixSink {
   void add(int a, int b, const Mat3& block) { K.template block<3, 3>(3 * a, 3 * b) = block; }
 };
 
-// What a kernel's batched forces_and_stiffness fills, lane b for element b of the batch
+// What a kernel's sweep_batch fills, lane b for element b of the batch
 // (structure of arrays, so that the kernel's loops over the lanes vectorise): the nodal
 // forces, the upper 3x3 blocks (a, b), a <= b, of the scaled Model stiffness in the order
 // (0,0), (0,1), ..., (0,N-1), (1,1), ..., each row-major (diagonal blocks exactly
@@ -128,17 +130,20 @@ struct KernelFrameBatch<Kernel, std::void_t<decltype(Kernel::frame_batch)>>
 template <class Kernel>
 inline constexpr int kernel_frame_batch = KernelFrameBatch<Kernel>::value;
 
-// Whether the kernel has the batched forces_and_stiffness.
+// Whether Kernel::sweep_batch exists: frames, forces and stiffness of a batch in one pass,
+// from the node positions (see CorotationalKernel<Tet4>).
 template <class Kernel, class = void>
-struct KernelBatchesForcesStiffness : std::false_type {};
+struct KernelSweepsBatches : std::false_type {};
 template <class Kernel>
-struct KernelBatchesForcesStiffness<
-    Kernel, std::void_t<decltype(std::declval<const Kernel&>().forces_and_stiffness(
-                nullptr, nullptr, nullptr, nullptr, 0, 0.0,
-                std::declval<ForceStiffnessBatch<Kernel::ElementType::num_nodes, kernel_frame_batch<Kernel>>&>()))>>
+struct KernelSweepsBatches<
+    Kernel,
+    std::void_t<decltype(std::declval<const Kernel&>().sweep_batch(
+        std::declval<const typename Kernel::Element*>(), std::declval<const Nodes&>(), std::declval<const Nodes&>(),
+        std::declval<const int*>(), std::declval<typename Kernel::Cache*>(), 0, 0.0,
+        std::declval<ForceStiffnessBatch<Kernel::ElementType::num_nodes, kernel_frame_batch<Kernel>>&>()))>>
     : std::true_type {};
 template <class Kernel>
-inline constexpr bool kernel_batches_forces_stiffness = KernelBatchesForcesStiffness<Kernel>::value;
+inline constexpr bool kernel_sweeps_batches = KernelSweepsBatches<Kernel>::value;
 
 // For kernels without per-configuration quantities or caches.
 struct NoFrame {};

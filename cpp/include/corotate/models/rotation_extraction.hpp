@@ -22,6 +22,11 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q);
 // elements run side by side, vectorised, which is several times faster per element than one
 // call each (one element's iteration is a serial chain of dependent operations).
 void extract_rotations(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count);
+// The same in structure-of-arrays form, F[i][j][k] and R[i][j][k] for problem k < count <=
+// kRotationLanes: for a batched element sweep that keeps its elements in lanes throughout.
+inline constexpr int kRotationLanes = 16;
+void extract_rotations(const double (&F)[3][3][kRotationLanes], Eigen::Quaterniond* q,
+                       double (&R)[3][3][kRotationLanes], int count);
 
 // What the derivative of the polar rotation needs, shared by the co-rotated tangents: for
 // F = R S with S symmetric, a change dF rotates R by dR = R [theta]x with
