@@ -6,7 +6,7 @@
 
 #include "corotate/cpu_clones.hpp"
 #include "corotate/parallel.hpp"
-#include "corotate/sparse/padded_vectors.hpp"
+#include "corotate/sparse/symmetric_product.hpp"
 
 namespace corotate {
 
@@ -113,55 +113,11 @@ void BlockSparseMatrix::multiply(const Vec& x, Vec& y) const {
 }
 
 COROTATE_CPU_CLONES void BlockSparseMatrix::symmetric_kernel(const double* xp, double* yp) const {
-  const Index chunks = num_chunks();
-  const double* val = values_.data();
+  const SymmetricRows rows{row_start_.data(), chunk_lower_.data(), diagonal_.data(), chunk_upper_.data()};
+  const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
   COROTATE_PARALLEL_FOR(chunks > 1)
-  for (Index c = 0; c < chunks; ++c) {
-    const int first = chunk_start_[c], last = chunk_start_[c + 1];
-    // y_i of the chunk collects B^T x_i from the chunk's earlier rows, then its own row.
-    std::fill(yp + 4 * first, yp + 4 * last, 0.0);
-    for (int i = first; i < last; ++i) {
-      const v4d xi = load4(xp + 4 * i);
-      const v4d x0 = {xi[0], xi[0], xi[0], xi[0]}, x1 = {xi[1], xi[1], xi[1], xi[1]}, x2 = {xi[2], xi[2], xi[2], xi[2]};
-      v4d a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
-      for (int k = row_start_[i]; k < chunk_lower_[i]; ++k) {  // pairs with earlier chunks
-        const double* b = val + 9 * k;
-        const v4d xj = load4(xp + 4 * columns_[k]);
-        a0 += load4(b) * xj;
-        a1 += load4(b + 3) * xj;
-        a2 += load4(b + 6) * xj;
-      }
-      {
-        const double* b = val + 9 * diagonal_[i];
-        a0 += load4(b) * xi;
-        a1 += load4(b + 3) * xi;
-        const v4d last_row = {b[6], b[7], b[8], 0.0};  // the matrix's last block ends here
-        a2 += last_row * xi;
-      }
-      for (int k = diagonal_[i] + 1; k < chunk_upper_[i]; ++k) {  // in-chunk pairs: both products
-        const double* b = val + 9 * k;
-        const int j = columns_[k];
-        const v4d xj = load4(xp + 4 * j);
-        const v4d b0 = load4(b), b1 = load4(b + 3), b2 = load4(b + 6);
-        a0 += b0 * xj;
-        a1 += b1 * xj;
-        a2 += b2 * xj;
-        v4d yj = load4(yp + 4 * j);
-        yj += b0 * x0 + b1 * x1 + b2 * x2;
-        std::memcpy(yp + 4 * j, &yj, sizeof yj);
-      }
-      for (int k = chunk_upper_[i]; k < row_start_[i + 1]; ++k) {  // pairs with later chunks
-        const double* b = val + 9 * k;
-        const v4d xj = load4(xp + 4 * columns_[k]);
-        a0 += load4(b) * xj;
-        a1 += load4(b + 3) * xj;
-        a2 += load4(b + 6) * xj;
-      }
-      yp[4 * i] += sum3(a0);
-      yp[4 * i + 1] += sum3(a1);
-      yp[4 * i + 2] += sum3(a2);
-    }
-  }
+  for (Index c = 0; c < chunks; ++c)
+    symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
 }
 
 void BlockSparseMatrix::multiply_symmetric(const Vec& x, Vec& y) const {

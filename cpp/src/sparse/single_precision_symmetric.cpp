@@ -5,7 +5,7 @@
 
 #include "corotate/cpu_clones.hpp"
 #include "corotate/parallel.hpp"
-#include "corotate/sparse/padded_vectors.hpp"
+#include "corotate/sparse/symmetric_product.hpp"
 
 namespace corotate {
 
@@ -33,7 +33,7 @@ void SinglePrecisionSymmetric::build_layout(const BlockSparseMatrix& A) {
     chunk_end_[i] = diagonal_[i] + (A.chunk_upper(i) - A.diagonal_block(i));
     row_first_.push_back(static_cast<int>(columns_.size()));
   }
-  values_.assign(9 * columns_.size() + 4, 0.0f);  // the padding: load4 past the last block
+  values_.assign(9 * columns_.size() + 4, 0.0f);  // padding: a block row's four-wide load
   pattern_rows_ = rows;
   pattern_columns_ = A.columns().data();
   pattern_blocks_ = A.num_blocks();
@@ -71,55 +71,14 @@ COROTATE_CPU_CLONES void SinglePrecisionSymmetric::assign(const BlockSparseMatri
     }
 }
 
-// BlockSparseMatrix::symmetric_kernel over the float copy (see there for the chunk logic).
+// BlockSparseMatrix::multiply_symmetric's rows over the float copy: the blocks across chunks
+// below the diagonal come first, so they end where the diagonal is.
 COROTATE_CPU_CLONES void SinglePrecisionSymmetric::kernel(const double* xp, double* yp) const {
+  const SymmetricRows rows{row_first_.data(), diagonal_.data(), diagonal_.data(), chunk_end_.data()};
   const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
-  const float* val = values_.data();
   COROTATE_PARALLEL_FOR(chunks > 1)
-  for (Index c = 0; c < chunks; ++c) {
-    const int first = chunk_start_[c], last = chunk_start_[c + 1];
-    std::fill(yp + 4 * first, yp + 4 * last, 0.0);
-    for (int i = first; i < last; ++i) {
-      const v4d xi = load4(xp + 4 * i);
-      const v4d x0 = {xi[0], xi[0], xi[0], xi[0]}, x1 = {xi[1], xi[1], xi[1], xi[1]}, x2 = {xi[2], xi[2], xi[2], xi[2]};
-      v4d a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
-      for (int k = row_first_[i]; k < diagonal_[i]; ++k) {  // pairs with earlier chunks
-        const float* b = val + 9 * k;
-        const v4d xj = load4(xp + 4 * columns_[k]);
-        a0 += load4(b) * xj;
-        a1 += load4(b + 3) * xj;
-        a2 += load4(b + 6) * xj;
-      }
-      {
-        const float* b = val + 9 * diagonal_[i];
-        a0 += load4(b) * xi;
-        a1 += load4(b + 3) * xi;
-        a2 += load4(b + 6) * xi;  // the fourth value meets x's zero
-      }
-      for (int k = diagonal_[i] + 1; k < chunk_end_[i]; ++k) {  // in-chunk pairs: both products
-        const float* b = val + 9 * k;
-        const int j = columns_[k];
-        const v4d xj = load4(xp + 4 * j);
-        const v4d b0 = load4(b), b1 = load4(b + 3), b2 = load4(b + 6);
-        a0 += b0 * xj;
-        a1 += b1 * xj;
-        a2 += b2 * xj;
-        v4d yj = load4(yp + 4 * j);
-        yj += b0 * x0 + b1 * x1 + b2 * x2;
-        std::memcpy(yp + 4 * j, &yj, sizeof yj);
-      }
-      for (int k = chunk_end_[i]; k < row_first_[i + 1]; ++k) {  // pairs with later chunks
-        const float* b = val + 9 * k;
-        const v4d xj = load4(xp + 4 * columns_[k]);
-        a0 += load4(b) * xj;
-        a1 += load4(b + 3) * xj;
-        a2 += load4(b + 6) * xj;
-      }
-      yp[4 * i] += sum3(a0);
-      yp[4 * i + 1] += sum3(a1);
-      yp[4 * i + 2] += sum3(a2);
-    }
-  }
+  for (Index c = 0; c < chunks; ++c)
+    symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
 }
 
 void SinglePrecisionSymmetric::multiply(const Vec& x, Vec& y) const {
