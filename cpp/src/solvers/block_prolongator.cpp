@@ -28,13 +28,13 @@ BlockProlongator::BlockProlongator(const ScalarMatrix& P, const std::vector<int>
     row_aggregates.erase(std::unique(row_aggregates.begin(), row_aggregates.end()), row_aggregates.end());
     const size_t first = block_aggregate_.size();
     block_aggregate_.insert(block_aggregate_.end(), row_aggregates.begin(), row_aggregates.end());
-    values_.resize(18 * block_aggregate_.size(), 0.0);
+    values_.resize(18 * block_aggregate_.size(), 0.0f);
     for (int r = 0; r < 3; ++r)
       for (ScalarMatrix::InnerIterator it(P, 3 * i + r); it; ++it) {
         const int a = aggregate_of[it.col()];
         const size_t k =
             first + (std::lower_bound(row_aggregates.begin(), row_aggregates.end(), a) - row_aggregates.begin());
-        values_[18 * k + 6 * r + (it.col() - coarse_start[a])] = it.value();
+        values_[18 * k + 6 * r + (it.col() - coarse_start[a])] = static_cast<float>(it.value());
       }
     node_start_.push_back(static_cast<int>(block_aggregate_.size()));
   }
@@ -61,13 +61,13 @@ void BlockProlongator::prolong(const Vec& coarse, Vec& fine, bool add) {
       padded_[6 * a + q] = q < coarse_start_[a + 1] - coarse_start_[a] ? coarse[coarse_start_[a] + q] : 0.0;
   fine.resize(3 * n);
   const double* c = padded_.data();
-  const double* val = values_.data();
+  const float* val = values_.data();
   double* y = fine.data();
   COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) {
     double y0 = add ? y[3 * i] : 0.0, y1 = add ? y[3 * i + 1] : 0.0, y2 = add ? y[3 * i + 2] : 0.0;
     for (int k = node_start_[i]; k < node_start_[i + 1]; ++k) {
-      const double* b = val + 18 * k;
+      const float* b = val + 18 * k;
       const double* ca = c + 6 * block_aggregate_[k];
       for (int q = 0; q < 6; ++q) {
         y0 += b[q] * ca[q];
@@ -84,7 +84,7 @@ void BlockProlongator::prolong(const Vec& coarse, Vec& fine, bool add) {
 void BlockProlongator::restrict_to(const Vec& fine, Vec& coarse) {
   const Index n = num_nodes(), m = num_aggregates();
   const double* r = fine.data();
-  const double* val = values_.data();
+  const float* val = values_.data();
   double* c = padded_.data();
   if (num_threads() == 1 || m < 64) {
     // Streaming the blocks in storage order and scattering into the aggregates reads them
@@ -94,7 +94,7 @@ void BlockProlongator::restrict_to(const Vec& fine, Vec& coarse) {
     for (Index i = 0; i < n; ++i) {
       const double* ri = r + 3 * i;
       for (int k = node_start_[i]; k < node_start_[i + 1]; ++k) {
-        const double* b = val + 18 * k;
+        const float* b = val + 18 * k;
         double* ca = c + 6 * block_aggregate_[k];
         for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
       }
@@ -104,7 +104,7 @@ void BlockProlongator::restrict_to(const Vec& fine, Vec& coarse) {
     for (Index a = 0; a < m; ++a) {
       double ca[6] = {0, 0, 0, 0, 0, 0};
       for (int s = aggregate_start_[a]; s < aggregate_start_[a + 1]; ++s) {
-        const double* b = val + 18 * aggregate_block_[s];
+        const float* b = val + 18 * aggregate_block_[s];
         const double* ri = r + 3 * aggregate_node_[s];
         for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
       }
