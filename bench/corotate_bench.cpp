@@ -25,6 +25,7 @@
 #include "feedback_scenario.hpp"
 #include "grab_scenario.hpp"
 #include "mass_spring_scenario.hpp"
+#include "products_scenario.hpp"
 #include "rotation_scenario.hpp"
 
 using namespace corotate;
@@ -223,6 +224,9 @@ void usage() {
       "  --scenario rotations [--elements N] [--turn RAD]\n"
       "                      (first option) the element sweep's polar rotations alone, one\n"
       "                      call per element vs batched; see bench/rotation_scenario.hpp\n"
+      "  --scenario products [--sizes 4,8] [--threads N]\n"
+      "                      (first option) the element sweep, the mass copy and the matrix-vector\n"
+      "                      products (double, symmetric, float32) alone; see bench/products_scenario.hpp\n"
       "Each mesh first runs 'reference' (two-level PCG to 1e-10) so deviations are measured honestly.");
 }
 
@@ -238,9 +242,10 @@ int main(int argc, char** argv) {
       if (std::string(argv[2]) == "embedding") return bench::embedding_main(argc - 3, argv + 3);
       if (std::string(argv[2]) == "grab") return bench::grab_main(argc - 3, argv + 3);
       if (std::string(argv[2]) == "rotations") return bench::rotations_main(argc - 3, argv + 3);
+      if (std::string(argv[2]) == "products") return bench::products_main(argc - 3, argv + 3);
       if (std::string(argv[2]) != "beam")
         throw InvalidInput(std::string("unknown scenario ") + argv[2] +
-                           " (beam, mass_spring, feedback, embedding, grab, rotations)");
+                           " (beam, mass_spring, feedback, embedding, grab, rotations, products)");
       argc -= 2, argv += 2;
     }
     for (int a = 1; a < argc; ++a) {

@@ -82,11 +82,8 @@ void BlockSparseMatrix::assign_scaled(double a, const BlockSparseMatrix& other, 
       run(row_start_[first], row_start_[last]);
       continue;
     }
-    // Row by row, the product blocks are two runs: [row start, chunk_lower), [diagonal, row end).
-    for (int i = first; i < last; ++i) {
-      run(row_start_[i], chunk_lower_[i]);
-      run(diagonal_[i], row_start_[i + 1]);
-    }
+    for (int i = first; i < last; ++i)
+      for (const auto& [begin, end] : product_runs(i)) run(begin, end);
   }
 }
 

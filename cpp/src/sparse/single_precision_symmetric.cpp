@@ -19,22 +19,22 @@ COROTATE_CLONE_INLINE float* convert(const double* first, const double* last, do
 
 void SinglePrecisionSymmetric::build_layout(const BlockSparseMatrix& A) {
   const Index n = A.num_nodes();
-  const auto& rows = A.row_start();
   chunk_start_ = A.chunk_start();
   row_first_.assign(1, 0);
   diagonal_.resize(n);
   chunk_end_.resize(n);
   columns_.clear();
   const auto& cols = A.columns();
-  for (Index i = 0; i < n; ++i) {
-    columns_.insert(columns_.end(), cols.begin() + rows[i], cols.begin() + A.chunk_lower(i));
+  for (Index i = 0; i < n; ++i) {  // the product runs, the diagonal first in the second
+    const auto [lower, upper] = A.product_runs(i);
+    columns_.insert(columns_.end(), cols.begin() + lower.first, cols.begin() + lower.second);
     diagonal_[i] = static_cast<int>(columns_.size());
-    columns_.insert(columns_.end(), cols.begin() + A.diagonal_block(i), cols.begin() + rows[i + 1]);
-    chunk_end_[i] = diagonal_[i] + (A.chunk_upper(i) - A.diagonal_block(i));
+    columns_.insert(columns_.end(), cols.begin() + upper.first, cols.begin() + upper.second);
+    chunk_end_[i] = diagonal_[i] + (A.chunk_upper(i) - upper.first);
     row_first_.push_back(static_cast<int>(columns_.size()));
   }
   values_.assign(9 * columns_.size() + 4, 0.0f);  // padding: a block row's four-wide load
-  pattern_rows_ = rows;
+  pattern_rows_ = A.row_start();
   pattern_columns_ = A.columns().data();
   pattern_blocks_ = A.num_blocks();
 }
@@ -57,17 +57,14 @@ COROTATE_CPU_CLONES void SinglePrecisionSymmetric::assign(const BlockSparseMatri
   if (largest > 0 && std::isfinite(largest)) std::frexp(largest, &exponent);
   unscale_ = std::ldexp(1.0, exponent);
   const double scale = std::ldexp(1.0, -exponent);
-  // Row by row, the stored blocks are two runs of A's: [row start, chunk_lower) and
-  // [diagonal, row end); each run converts as one flat loop (vectorised).
-  const auto& rows = A.row_start();
+  // Row by row, the stored blocks are A's two product runs; each converts as one flat loop.
   float* dst = values_.data();
   const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
   COROTATE_PARALLEL_FOR(chunks > 1)
   for (Index c = 0; c < chunks; ++c)
     for (int i = chunk_start_[c]; i < chunk_start_[c + 1]; ++i) {
       float* out = dst + 9 * row_first_[i];
-      out = convert(src + 9 * rows[i], src + 9 * A.chunk_lower(i), scale, out);
-      convert(src + 9 * A.diagonal_block(i), src + 9 * rows[i + 1], scale, out);
+      for (const auto& [begin, end] : A.product_runs(i)) out = convert(src + 9 * begin, src + 9 * end, scale, out);
     }
 }
 

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <Eigen/SparseCore>
+#include <array>
+#include <utility>
 #include <vector>
 
 #include "corotate/common.hpp"
@@ -68,6 +70,11 @@ class BlockSparseMatrix {
   // and the blocks below it whose column lies in an earlier row chunk. The others (below the
   // diagonal, inside the row's chunk) it takes as the transposes of their mirrors.
   bool is_product_block(Index i, int k) const { return k < chunk_lower_[i] || k >= diagonal_[i]; }
+  // Those blocks of row i as two runs of block indices: [row start, chunk_lower(i)) and
+  // [diagonal, row end).
+  std::array<std::pair<int, int>, 2> product_runs(Index i) const {
+    return {{{row_start_[i], chunk_lower_[i]}, {diagonal_[i], row_start_[i + 1]}}};
+  }
 
   // Scalar CSR copy (symmetric, so it is also the CSC form) for direct solvers.
   // The pattern is built by the first call; later calls only copy values.

@@ -99,12 +99,12 @@ COROTATE_CLONE_INLINE void symmetric_chunk(const Value* values, const int* colum
   }
 }
 
+// Below this many nodes padded_product's copies stay on one thread (a fork costs microseconds).
+inline constexpr Index kParallelCopyNodes = 8192;
+
 // y = scale * (kernel applied to x): x is copied to four entries per node (the fourth zero),
 // kernel(x4, y4) fills y4 likewise, and its first three per node, times scale, go to y. Work
 // buffers per thread and per kernel type, allocated once.
-// Below this many nodes the copies stay on one thread (a fork costs microseconds).
-inline constexpr Index kParallelCopyNodes = 8192;
-
 template <class Kernel>
 void padded_product(const Vec& x, Vec& y, Kernel&& kernel, double scale = 1.0) {
   const Index n = x.size() / 3;
