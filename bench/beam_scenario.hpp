@@ -5,6 +5,7 @@
 #include <array>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,37 @@
 #include "corotate/elements/hex8.hpp"
 
 namespace corotate::bench {
+
+// "a,b,c" -> {"a", "b", "c"}: the benchmark's list options.
+inline std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= s.size()) {
+    const size_t comma = s.find(',', start);
+    out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+// --sizes 1,2,4: the beam's refinement factors.
+inline std::vector<int> parse_sizes(const std::string& list) {
+  std::vector<int> sizes;
+  for (const auto& s : split_list(list)) {
+    size_t used = 0;
+    int size = 0;
+    try {
+      size = std::stoi(s, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != s.size() || size < 1)
+      throw InvalidInput("--sizes takes positive integers separated by commas, got '" + list + "'");
+    sizes.push_back(size);
+  }
+  return sizes;
+}
 
 struct TetMesh {
   Nodes points;

@@ -172,18 +172,6 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
   return r;
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (start <= s.size()) {
-    const size_t comma = s.find(',', start);
-    out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
 void usage() {
   std::puts(
       "usage: corotate_bench [options]\n"
@@ -259,9 +247,9 @@ int main(int argc, char** argv) {
         return 0;
       } else if (arg == "--sizes") {
         opt.sizes.clear();
-        for (auto& s : split(value())) opt.sizes.push_back(std::stoi(s));
+        opt.sizes = bench::parse_sizes(value());
       } else if (arg == "--mesh") opt.mesh_path = value();
-      else if (arg == "--configs") opt.configs = split(value());
+      else if (arg == "--configs") opt.configs = bench::split_list(value());
       else if (arg == "--steps") opt.steps = std::stoi(value());
       else if (arg == "--dt") opt.dt = std::stod(value());
       else if (arg == "--lumped") opt.lumped = true;

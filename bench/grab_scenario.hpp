@@ -124,16 +124,8 @@ inline int grab_main(int argc, char** argv) {
   int cycles = 5;
   for (int a = 0; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg == "--sizes" && a + 1 < argc) {
-      sizes.clear();
-      std::string list = argv[++a];
-      for (size_t start = 0; start <= list.size();) {
-        const size_t comma = list.find(',', start);
-        sizes.push_back(std::stoi(list.substr(start, comma - start)));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-      }
-    } else if (arg == "--mesh" && a + 1 < argc) mesh_path = argv[++a];
+    if (arg == "--sizes" && a + 1 < argc) sizes = parse_sizes(argv[++a]);
+    else if (arg == "--mesh" && a + 1 < argc) mesh_path = argv[++a];
     else if (arg == "--stiffness" && a + 1 < argc) stiffness = std::stod(argv[++a]);
     else if (arg == "--cycles" && a + 1 < argc) cycles = std::stoi(argv[++a]);
     else if (arg == "--help" || arg == "-h") {

@@ -25,15 +25,8 @@ inline int products_main(int argc, char** argv) {
   int repeats = 21;
   for (int a = 0; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg == "--sizes" && a + 1 < argc) {
-      sizes.clear();
-      std::string list = argv[++a];
-      for (size_t start = 0; start <= list.size();) {
-        const size_t comma = std::min(list.find(',', start), list.size());
-        sizes.push_back(std::stoi(list.substr(start, comma - start)));
-        start = comma + 1;
-      }
-    } else if (arg == "--repeats" && a + 1 < argc) repeats = std::stoi(argv[++a]);
+    if (arg == "--sizes" && a + 1 < argc) sizes = parse_sizes(argv[++a]);
+    else if (arg == "--repeats" && a + 1 < argc) repeats = std::stoi(argv[++a]);
     else if (arg == "--threads" && a + 1 < argc) set_num_threads(std::stoi(argv[++a]));
     else if (arg == "--help" || arg == "-h") {
       std::puts(
