@@ -18,7 +18,9 @@ class PCG:
     """Preconditioned conjugate gradients with an iteration cap (the paper's solver).
 
     max_iterations  cap on CG iterations per step; the step uses what it has at the cap
-    tolerance       relative residual |b - A dv| / |b| at which CG stops early
+    tolerance       relative residual |b - A dv| / |b| at which CG stops early; from 1e-4
+                    up, CG with "two_level" multiplies with the float32 copy of A that the
+                    preconditioner keeps (A to 6e-8 per entry; below 1e-4, in double)
     preconditioner  "auto" (default): "reference_factor" below 6,000 unknowns, "two_level"
                     from there on, chosen at the first step;
                     "two_level" (smoothed aggregation with rigid-body modes: block-Jacobi

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "corotate/sparse/single_precision_symmetric.hpp"
+
 namespace corotate {
 
 void PCGSettings::validate() const {
@@ -29,6 +31,11 @@ void PCG::precondition() {
   for (size_t k = 0; k < fixed_dofs_.size(); ++k) r_[fixed_dofs_[k]] = z_[fixed_dofs_[k]] = fixed_residual_[k];
 }
 
+void PCG::multiply(const BlockSparseMatrix& A, const SinglePrecisionSymmetric* single, const Vec& v, Vec& out) const {
+  if (single) single->multiply(v, out);
+  else A.multiply_symmetric(v, out);
+}
+
 SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   const Index n = b.size();
   r_.resize(n);
@@ -39,6 +46,8 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
     throw InvalidInput("PCG: the fixed DOFs it was given do not belong to this " + std::to_string(n) + "-DOF system");
   if (!settings_.warm_start || x.size() != n) x.setZero(n);
   preconditioner_->compute(A);
+  const SinglePrecisionSymmetric* single =
+      settings_.tolerance >= kSinglePrecisionProductTolerance ? preconditioner_->single_precision_matrix() : nullptr;
 
   const double b_norm = b.norm();
   if (!std::isfinite(b_norm))  // also catches entries so large that the norm overflows
@@ -48,7 +57,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
     return {0, 0.0, true};
   }
   const double target = settings_.tolerance * b_norm;
-  A.multiply_symmetric(x, r_);
+  multiply(A, single, x, r_);
   r_ = b - r_;
   double r_norm = r_.norm();
   // A warm start is taken as it is only when it beats the tolerance a hundredfold. One that
@@ -64,7 +73,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
   double rz = r_.dot(z_);
   int it = 0;
   while (it < settings_.max_iterations) {
-    A.multiply_symmetric(p_, q_);
+    multiply(A, single, p_, q_);
     const double pq = p_.dot(q_);
     if (!(pq > 0))
       throw NotPositiveDefinite("PCG: the system matrix is not positive definite (p^T A p = " + std::to_string(pq) +

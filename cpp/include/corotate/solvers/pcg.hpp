@@ -11,6 +11,13 @@ namespace corotate {
 
 // The defaults are corotate's default solver (corotate.PCG()): the fastest setting found to
 // stay within 1% of a converged solve on the benchmark beam (bench/README.md).
+// CG multiplies with the float32 copy of A that a preconditioner keeps for its own products
+// (SinglePrecisionSymmetric: half the bytes of the double product, which is bound by them)
+// when the tolerance is this far above float32's rounding: the system it then solves
+// differs from A by relative 6e-8 per entry, a thousand times below the residual asked for.
+// Tighter tolerances (the converged references, statics) multiply in double.
+constexpr double kSinglePrecisionProductTolerance = 1e-4;
+
 struct PCGSettings {
   int max_iterations = 20;   // cap; the solve stops there even when not converged
   double tolerance = 1e-2;   // relative residual |b - A x| / |b|
@@ -43,6 +50,8 @@ class PCG final : public LinearSolver {
   PCGSettings settings_;
   std::unique_ptr<Preconditioner> preconditioner_;
   void precondition();  // z = preconditioned r, with the fixed DOFs decoupled
+  // out = A v, in double or with the preconditioner's float32 copy (single)
+  void multiply(const BlockSparseMatrix& A, const SinglePrecisionSymmetric* single, const Vec& v, Vec& out) const;
   std::vector<Index> fixed_dofs_;  // ascending
   Vec fixed_residual_;
   Vec r_, z_, p_, q_;  // work vectors, sized on first use

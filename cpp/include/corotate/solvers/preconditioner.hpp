@@ -10,6 +10,8 @@
 
 namespace corotate {
 
+class SinglePrecisionSymmetric;
+
 class Preconditioner {
  public:
   virtual ~Preconditioner() = default;
@@ -29,6 +31,9 @@ class Preconditioner {
   // Whether the next compute() or apply() reads blocks that multiply_symmetric does not
   // (BlockSparseMatrix::is_product_block); true unless a preconditioner knows better.
   virtual bool needs_lower_blocks() const { return true; }
+  // The float32 copy of the matrix that compute() made for its own products, if it keeps one
+  // (valid until the next compute()): CG may multiply with it too (pcg.hpp).
+  virtual const SinglePrecisionSymmetric* single_precision_matrix() const { return nullptr; }
 };
 
 // No preconditioning (plain CG): z = r.
@@ -134,6 +139,9 @@ class AutoPreconditioner final : public Preconditioner {
   void apply(const Vec& r, Vec& z) override { chosen_->apply(r, z); }
   void solved(bool converged) override { chosen_->solved(converged); }
   bool needs_lower_blocks() const override { return !chosen_ || chosen_->needs_lower_blocks(); }
+  const SinglePrecisionSymmetric* single_precision_matrix() const override {
+    return chosen_ ? chosen_->single_precision_matrix() : nullptr;
+  }
   // ReferenceFactor or TwoLevel once a system was seen; Auto before.
   PreconditionerKind chosen() const { return kind_; }
 

@@ -53,6 +53,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // Only to build the hierarchy (P^T A0 P reads all of A0); the cycle's products, the
   // block diagonal and the float32 copy read the product blocks.
   bool needs_lower_blocks() const override { return !ready_; }
+  const SinglePrecisionSymmetric* single_precision_matrix() const override { return &A_single_; }
   Index coarse_size() const { return coarse_.rows(); }
   // Each aggregate's rotation from the configuration the hierarchy was built at (identities
   // until positions arrive after the build).
@@ -69,7 +70,8 @@ class TwoLevelPreconditioner final : public Preconditioner {
   AggregateRotations rotations_;  // the aggregates and their turn since the build
   bool ready_ = false;
   // The current system matrix (set by compute) in float32 for the cycle's two products
-  // (single_precision_symmetric.hpp: half the bytes; CG's own product stays in double).
+  // (single_precision_symmetric.hpp: half the bytes; CG multiplies with it too at loose
+  // tolerances, pcg.hpp).
   SinglePrecisionSymmetric A_single_;
   BlockJacobiPreconditioner diagonal_;
   BlockProlongator prolongator_;  // P (3n x at most 6m) for P c and P^T r

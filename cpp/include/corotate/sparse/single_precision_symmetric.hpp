@@ -6,8 +6,9 @@
 // two such products per application, and a preconditioner only has to be a fixed symmetric
 // positive definite operator, not the exact matrix, so these products may use the values
 // rounded to float32 (relative error 6e-8) with the sums kept in double: half the bytes,
-// and at that size the copy fits one core's L2 cache. CG's own product and residual stay in
-// double, so the solution and its tolerance are unchanged.
+// and at that size the copy fits one core's L2 cache. At loose tolerances CG multiplies with
+// the same copy (pcg.hpp, kSinglePrecisionProductTolerance): the system it then solves is A
+// to 6e-8 per entry, far inside the residual it is asked for; tighter solves stay in double.
 //
 // The copy stores, row by row, exactly the blocks multiply_symmetric reads (those across
 // row chunks on both sides, the diagonal, the upper ones inside the chunk) in the order it
