@@ -1,6 +1,6 @@
-// Threads change the speed, never the answer: the element sweep runs coloured chunks (no two
-// chunks of a colour share a node) in a fixed colour order and sums energies per chunk in
-// chunk order, SpMV and the smoother split rows; so a run on two threads repeats a
+// Threads change the speed, never the answer: the element sweep runs its chunks in a fixed
+// order whose concurrent parts share no node (sweep_schedule.hpp) and sums energies per chunk
+// in chunk order, SpMV and the smoother split rows; so a run on two threads repeats a
 // one-thread run bit for bit.
 #include <algorithm>
 #include <set>
@@ -26,10 +26,11 @@ struct Threads {
   ~Threads() { set_num_threads(before); }
 };
 
-// 24 x 4 x 4 cubes: 2,304 tets in 5 chunks of 2 colours, 625 nodes (above the SpMV threshold).
+// 48 x 4 x 4 cubes: 4,608 tets in 9 chunks, split into two halves that run concurrently and
+// their separator; 1,225 nodes (above the SpMV threshold).
 Nodes run_beam(int threads, const std::string& preconditioner, double* energy) {
   const Threads scope(threads);
-  const auto mesh = fixtures::tet_beam(24, 4, 4);
+  const auto mesh = fixtures::tet_beam(48, 4, 4);
   IntegratorSettings settings;
   settings.time_step = 1e-2;
   PCGSettings pcg;
@@ -66,7 +67,7 @@ TEST(two_threads_repeat_one_thread_to_the_bit) {
     double e1 = 0, e2 = 0, e3 = 0;
     const Nodes one = run_beam(1, preconditioner, &e1);
     const Nodes two = run_beam(2, preconditioner, &e2);
-    const Nodes three = run_beam(3, preconditioner, &e3);  // more threads than chunks per colour: fine too
+    const Nodes three = run_beam(3, preconditioner, &e3);  // more threads than parts: fine too
     CHECK(one.minCoeff() < -1e-3 || one.row(2).minCoeff() < -1e-3);  // it moved
     CHECK((one - two).cwiseAbs().maxCoeff() == 0.0);
     CHECK((one - three).cwiseAbs().maxCoeff() == 0.0);
@@ -76,7 +77,7 @@ TEST(two_threads_repeat_one_thread_to_the_bit) {
 
 TEST(threaded_tangent_and_forces_match_a_serial_sweep) {
   // The element-matrix path (exact tangent, hyperelastic law) under two threads against one.
-  const auto mesh = fixtures::tet_beam(24, 4, 4);
+  const auto mesh = fixtures::tet_beam(48, 4, 4);
   auto model = make_model("neohookean", "tetra", mesh.points, mesh.cells, kMaterial);
   Nodes x = mesh.points;
   for (Index i = 0; i < x.cols(); ++i) x.col(i) += 0.05 * Vec3(std::sin(x(0, i)), std::cos(x(1, i)), x(2, i) * 0.3);
@@ -108,7 +109,7 @@ TEST(threaded_tangent_and_forces_match_a_serial_sweep) {
 
 TEST(an_error_inside_the_threaded_sweep_is_thrown_not_fatal) {
   // The geometric stiffness of an inverted element throws from inside the parallel loop.
-  const auto mesh = fixtures::tet_beam(24, 4, 4);
+  const auto mesh = fixtures::tet_beam(48, 4, 4);
   auto model = make_model("neohookean", "tetra", mesh.points, mesh.cells, kMaterial);
   Nodes x = mesh.points;
   x.row(2) *= -1.0;  // every element inverted

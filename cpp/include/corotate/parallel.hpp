@@ -1,4 +1,4 @@
-// The thread count of corotate's parallel loops: element sweeps (coloured chunks),
+// The thread count of corotate's parallel loops: element sweeps (sweep_schedule.hpp),
 // block-sparse matrix-vector products and the block-Jacobi smoother. OpenMP when the build
 // found it (corotate::have_openmp()); without it every loop runs on the calling thread.
 //

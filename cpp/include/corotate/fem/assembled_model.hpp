@@ -20,6 +20,7 @@
 
 #include "corotate/fem/batch_scatter.hpp"
 #include "corotate/fem/element_kernel.hpp"
+#include "corotate/fem/sweep_schedule.hpp"
 #include "corotate/fem/validate_mesh.hpp"
 #include "corotate/materials/psd_projection.hpp"
 #include "corotate/models/force_model.hpp"
@@ -120,7 +121,7 @@ class AssembledModel final : public ForceModel {
         Ke.template block<3, 3>(3 * a, 3 * b) = Ke.template block<3, 3>(3 * b, 3 * a).transpose();
   }
   void evaluate_constant(const Nodes& x, const Request& what, Results& out);
-  void colour_chunks();
+  void schedule_chunks();
 
   Kernel kernel_;
   Nodes rest_;
@@ -132,17 +133,16 @@ class AssembledModel final : public ForceModel {
   std::vector<typename Kernel::Element> elements_;  // empty for constant-stiffness kernels
   std::vector<typename Kernel::Cache> caches_, saved_caches_;
   std::vector<ElementMass<N>> masses_;
-  // The element sweep runs over chunks of kChunk consecutive elements, grouped by colour:
-  // no two chunks of one colour share a node, so a colour's chunks scatter into disjoint
-  // entries and run concurrently (no atomics, no per-thread copies of the matrix). Colours
-  // run in order, chunks' energies are summed in chunk order: the result does not depend on
-  // the thread count.
+  // The element sweep runs over chunks of kChunk consecutive elements in the order of a
+  // nested dissection of the chunks (sweep_schedule.hpp): the parts of a phase share no node,
+  // so they scatter into disjoint entries and run concurrently (no atomics, no per-thread
+  // copies of the matrix). The order depends on the mesh alone and chunks' energies are summed
+  // in chunk order: the result does not depend on the thread count.
   // 512: the natural element order's cache reuse survives within a chunk (chunks of 64 made
-  // the one-thread assembly at 15,360 tets ~40 % slower); a structured beam's chunks then need
-  // two or three colours.
+  // the one-thread assembly at 15,360 tets ~40 % slower).
   static constexpr Index kChunk = 512;
   static constexpr int kFrameBatch = kernel_frame_batch<Kernel>;
-  std::vector<std::vector<int>> colour_chunks_;  // chunk indices of each colour
+  SweepSchedule schedule_;
   std::vector<double> chunk_energy_;
   std::vector<Index> chunk_inverted_;
   std::vector<std::exception_ptr> chunk_error_;
@@ -191,7 +191,7 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
     product_.resize(3 * rest.cols());
   } else {
     caches_.resize(m);
-    colour_chunks();
+    schedule_chunks();
     if constexpr (kernel_sweeps_batches<Kernel>) {
       product_targets_.reserve(m);
       for (Index e = 0; e < m; ++e) {
@@ -204,32 +204,11 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
 }
 
 template <class Kernel>
-void AssembledModel<Kernel>::colour_chunks() {
-  // Greedy: each chunk takes the first colour that no chunk sharing one of its nodes has.
-  const Index m = num_elements(), chunks = (m + kChunk - 1) / kChunk;
-  std::vector<std::vector<int>> node_colours(num_nodes());
-  std::vector<Index> taken_by;  // per colour: the last chunk that found it taken
-  for (Index c = 0; c < chunks; ++c) {
-    const Index first = c * kChunk, last = std::min(m, first + kChunk);
-    for (Index e = first; e < last; ++e)
-      for (int a = 0; a < N; ++a)
-        for (int colour : node_colours[cells_(e, a)]) taken_by[colour] = c;
-    int colour = 0;
-    while (colour < static_cast<int>(taken_by.size()) && taken_by[colour] == c) ++colour;
-    if (colour == static_cast<int>(taken_by.size())) {
-      taken_by.push_back(-1);
-      colour_chunks_.emplace_back();
-    }
-    colour_chunks_[colour].push_back(static_cast<int>(c));
-    for (Index e = first; e < last; ++e)
-      for (int a = 0; a < N; ++a) {
-        auto& list = node_colours[cells_(e, a)];
-        if (std::find(list.begin(), list.end(), colour) == list.end()) list.push_back(colour);
-      }
-  }
-  chunk_energy_.assign(chunks, 0.0);
-  chunk_inverted_.assign(chunks, 0);
-  chunk_error_.assign(chunks, nullptr);
+void AssembledModel<Kernel>::schedule_chunks() {
+  schedule_ = schedule_sweep(cells_.data(), N, num_elements(), num_nodes(), kChunk);
+  chunk_energy_.assign(schedule_.num_chunks, 0.0);
+  chunk_inverted_.assign(schedule_.num_chunks, 0);
+  chunk_error_.assign(schedule_.num_chunks, nullptr);
 }
 
 template <class Kernel>
@@ -270,7 +249,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
       throw InvalidInput(std::string("the '") + Kernel::name +
                          "' model has no separate geometric stiffness (the hyperelastic models have one)");
     // One element: gather, frame, what was asked, scatter. Touches only the entries of its
-    // own nodes (see colour_chunks).
+    // own nodes (see schedule_chunks).
     auto diagnose = [&](Index e, const NodeMatrix& xe, const typename Kernel::Frame& frame, double& energy,
                         Index& inverted) {
       if (what.energy) energy += kernel_.energy(elements_[e], frame, xe);
@@ -335,57 +314,57 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
     // chunk keeps its own, and the one of the lowest chunk is rethrown after the sweep.
     const Index m = num_elements();
     std::fill(chunk_error_.begin(), chunk_error_.end(), nullptr);
-    for (const auto& chunks : colour_chunks_) {
-      const Index count = static_cast<Index>(chunks.size());
+    for (const auto& parts : schedule_.phases) {
+      const Index count = static_cast<Index>(parts.size());
       COROTATE_PARALLEL_FOR(count > 1)
-      for (Index i = 0; i < count; ++i) {
-        const Index c = chunks[i];
-        NodeMatrix xe[kFrameBatch], ye, fe;
-        Batch batch;
-        typename Kernel::Frame frames[kFrameBatch];
-        Stiffness Ke;
-        NodeScalars k;
-        double energy = 0;
-        Index inverted = 0;
-        try {
-          // The implicit step's sweep a batch at a time where the kernel batches it; otherwise
-          // the frames (rotations) of kFrameBatch elements at once where the kernel batches
-          // them, then the rest element by element.
-          // A batch's energy, inversions, forces and blocks, from the batched kernel's output.
-          auto finish_batch = [&](Index first, int count) {
-            for (int b = 0; b < count; ++b) {
-              if (what.energy) energy += batch.energy[b];
-              if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
-              scatter(first + b, batch, b, *out.forces);
-            }
-            if (what.lower_blocks)
-              add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
-            else add_batch_product_blocks(batch, count, &product_targets_[first], out.stiffness->values().data());
-          };
-          for (Index first = c * kChunk, last = std::min(m, first + kChunk); first < last; first += kFrameBatch) {
-            const int count = static_cast<int>(std::min<Index>(kFrameBatch, last - first));
-            if constexpr (kernel_sweeps_batches<Kernel>) {
-              if (batched) {
-                kernel_.sweep_batch(&elements_[first], x, linearize ? *what.forces_at : x, cells_.data() + first * N,
-                                    &caches_[first], count, what.stiffness_scale, batch);
-                finish_batch(first, count);
-                continue;
+      for (Index i = 0; i < count; ++i)
+        for (const Index c : parts[i]) {
+          NodeMatrix xe[kFrameBatch], ye, fe;
+          Batch batch;
+          typename Kernel::Frame frames[kFrameBatch];
+          Stiffness Ke;
+          NodeScalars k;
+          double energy = 0;
+          Index inverted = 0;
+          try {
+            // The implicit step's sweep a batch at a time where the kernel batches it; otherwise
+            // the frames (rotations) of kFrameBatch elements at once where the kernel batches
+            // them, then the rest element by element.
+            // A batch's energy, inversions, forces and blocks, from the batched kernel's output.
+            auto finish_batch = [&](Index first, int count) {
+              for (int b = 0; b < count; ++b) {
+                if (what.energy) energy += batch.energy[b];
+                if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
+                scatter(first + b, batch, b, *out.forces);
               }
+              if (what.lower_blocks)
+                add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
+              else add_batch_product_blocks(batch, count, &product_targets_[first], out.stiffness->values().data());
+            };
+            for (Index first = c * kChunk, last = std::min(m, first + kChunk); first < last; first += kFrameBatch) {
+              const int count = static_cast<int>(std::min<Index>(kFrameBatch, last - first));
+              if constexpr (kernel_sweeps_batches<Kernel>) {
+                if (batched) {
+                  kernel_.sweep_batch(&elements_[first], x, linearize ? *what.forces_at : x, cells_.data() + first * N,
+                                      &caches_[first], count, what.stiffness_scale, batch);
+                  finish_batch(first, count);
+                  continue;
+                }
+              }
+              for (int b = 0; b < count; ++b) gather(x, first + b, xe[b]);
+              if constexpr (kFrameBatch > 1) {
+                kernel_.frames(&elements_[first], xe, &caches_[first], frames, count);
+              } else {
+                frames[0] = kernel_.frame(elements_[first], xe[0], caches_[first]);
+              }
+              for (int b = 0; b < count; ++b) element(first + b, xe[b], frames[b], ye, fe, Ke, k, energy, inverted);
             }
-            for (int b = 0; b < count; ++b) gather(x, first + b, xe[b]);
-            if constexpr (kFrameBatch > 1) {
-              kernel_.frames(&elements_[first], xe, &caches_[first], frames, count);
-            } else {
-              frames[0] = kernel_.frame(elements_[first], xe[0], caches_[first]);
-            }
-            for (int b = 0; b < count; ++b) element(first + b, xe[b], frames[b], ye, fe, Ke, k, energy, inverted);
+          } catch (...) {
+            chunk_error_[c] = std::current_exception();
           }
-        } catch (...) {
-          chunk_error_[c] = std::current_exception();
+          chunk_energy_[c] = energy;
+          chunk_inverted_[c] = inverted;
         }
-        chunk_energy_[c] = energy;
-        chunk_inverted_[c] = inverted;
-      }
     }
     for (const auto& error : chunk_error_)
       if (error) std::rethrow_exception(error);
