@@ -3,6 +3,8 @@
 #include <Eigen/QR>
 #include <cmath>
 
+#include "corotate/parallel.hpp"
+
 namespace corotate {
 
 namespace {
@@ -118,9 +120,9 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   coarse_factor_.analyze(coarse_);
   if (!coarse_factor_.factorize(coarse_))
     throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
-  residual_.resize(dofs);
-  correction_.resize(dofs);
   turned_.resize(dofs);
+  z4_.setZero(4 * n);
+  y4_.setZero(4 * n);
   coarse_rhs_.resize(coarse_dofs);
   coarse_solution_.resize(coarse_dofs);
   ready_ = true;
@@ -145,33 +147,52 @@ void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
   diagonal_.compute(A);
 }
 
-void TwoLevelPreconditioner::smooth(const Vec& r, Vec& z) {
-  diagonal_.apply(r, z);
-  z *= smoothing_weight_;
-}
-
 void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
-  // Symmetric V(1,1): smooth, coarse-correct (with P(x) = R(x) P), smooth.
-  smooth(r, z);
-  A_single_.multiply(z, residual_);
-  residual_ = r - residual_;
-  if (rotations_.rotated()) {
-    rotations_.to_built_frame(residual_, turned_);
-    prolongator_.restrict_to(turned_, coarse_rhs_);
-  } else {
-    prolongator_.restrict_to(residual_, coarse_rhs_);
+  // Symmetric V(1,1): smooth, coarse-correct (with P(x) = R(x) P), smooth. Every pass over
+  // the fine vectors is fused with its neighbours, node by node: the two products read and
+  // write the four-per-node vectors directly, the residual r - A z is formed as the product
+  // is read back, and turned into the aggregates' build frame in the same loop.
+  const Index n = A_single_.num_nodes();
+  const bool rotated = rotations_.rotated();
+  const std::vector<int>& aggregate = rotations_.aggregate_of_node();
+  const double w = smoothing_weight_, unscale = A_single_.unscale();
+  z.resize(3 * n);
+  double* z4 = z4_.data();
+  const double* y4 = y4_.data();
+  // z = w D^-1 r, also padded for the product.
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) {
+    const Vec3 zi = w * (diagonal_.inverse_block(i) * r.segment<3>(3 * i));
+    z.segment<3>(3 * i) = zi;
+    z4[4 * i] = zi[0], z4[4 * i + 1] = zi[1], z4[4 * i + 2] = zi[2];
   }
+  A_single_.multiply_padded(z4, y4_.data());
+  // Coarse right-hand side P(x)^T (r - A z).
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) {
+    const Vec3 res(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
+                   r[3 * i + 2] - unscale * y4[4 * i + 2]);
+    turned_.segment<3>(3 * i).noalias() = rotated ? Vec3(rotations_.rotation(aggregate[i]).transpose() * res) : res;
+  }
+  prolongator_.restrict_to(turned_, coarse_rhs_);
   coarse_factor_.solve(coarse_rhs_, coarse_solution_);
-  if (rotations_.rotated()) {
-    prolongator_.prolong(coarse_solution_, turned_, false);
-    rotations_.add_from_built_frame(turned_, z);
-  } else {
-    prolongator_.prolong(coarse_solution_, z, true);
+  prolongator_.prolong(coarse_solution_, turned_, false);
+  // z += P(x) e, padded again for the second product.
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) {
+    const Vec3 e = turned_.segment<3>(3 * i);
+    const Vec3 zi = z.segment<3>(3 * i) + (rotated ? Vec3(rotations_.rotation(aggregate[i]) * e) : e);
+    z.segment<3>(3 * i) = zi;
+    z4[4 * i] = zi[0], z4[4 * i + 1] = zi[1], z4[4 * i + 2] = zi[2];
   }
-  A_single_.multiply(z, residual_);
-  residual_ = r - residual_;
-  smooth(residual_, correction_);
-  z += correction_;
+  A_single_.multiply_padded(z4, y4_.data());
+  // z += w D^-1 (r - A z).
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) {
+    const Vec3 res(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
+                   r[3 * i + 2] - unscale * y4[4 * i + 2]);
+    z.segment<3>(3 * i) += w * (diagonal_.inverse_block(i) * res);
+  }
 }
 
 }  // namespace corotate

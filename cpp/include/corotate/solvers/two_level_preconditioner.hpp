@@ -62,7 +62,6 @@ class TwoLevelPreconditioner final : public Preconditioner {
  private:
   using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
   void setup(const BlockSparseMatrix& A0);
-  void smooth(const Vec& r, Vec& z);  // z = w D^-1 r (block diagonal of the current A)
 
   Nodes rest_;
   Nodes positions_;             // the latest set_positions (empty: none given)
@@ -80,7 +79,8 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // application, and the supernodal solve is the faster one (bench/README.md).
   SparseCholesky coarse_factor_{SparseCholesky::have_cholmod() ? SparseCholesky::Backend::Cholmod
                                                                : SparseCholesky::Backend::Eigen};
-  Vec residual_, coarse_rhs_, coarse_solution_, correction_, turned_;
+  Vec coarse_rhs_, coarse_solution_, turned_;
+  Vec z4_, y4_;  // the cycle's iterate and its product, four entries per node
   double smoothing_weight_ = 0.0;  // 4 / (3 lambda_max(D^-1 A0)): the smoother contracts
 };
 
