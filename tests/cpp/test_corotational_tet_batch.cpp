@@ -45,20 +45,18 @@ TEST(batched_tet_kernel_equals_the_one_element_kernel) {
       y[b] = x[b] + 0.1 * fixtures::random_matrix<Kernel::NodeMatrix>();
     }
     // The batch as the sweep packs it (lanes past count repeat the first element).
+    const TetBatchElements packed = kernel.pack_batch(el, count);
     TetBatchInput in;
+    in.elements = &packed;
     for (int lane = 0; lane < kTetBatch; ++lane) {
       const int b = lane < count ? lane : 0;
       for (int n = 0; n < 4; ++n)
-        for (int i = 0; i < 3; ++i) {
-          in.G[n][i][lane] = el[b].G(n, i);
-          in.y[n][i][lane] = y[b](i, n);
-        }
+        for (int i = 0; i < 3; ++i) in.y[n][i][lane] = y[b](i, n);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           in.R[i][j][lane] = fr[b].R(i, j);
           in.F[i][j][lane] = fr[b].F(i, j);
         }
-      in.volume[lane] = el[b].volume;
     }
     ForceStiffnessBatch<4, kTetBatch> batch;
     corotational_tet_batch(in, kMaterial.lame_lambda(), kMaterial.lame_mu(), scale, batch);

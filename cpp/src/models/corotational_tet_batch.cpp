@@ -28,14 +28,39 @@ COROTATE_CLONE_INLINE void stress(const double (&R)[3][3][B], const double (&F)[
 }
 }  // namespace
 
+COROTATE_CPU_CLONES void gather_tet_batch(const TetBatchElements& elements, const double* x, const double* at,
+                                          const int* nodes, int count, TetBatchInput& in) {
+  in.elements = &elements;
+  alignas(64) double xs[4][3][B];
+  for (int b = 0; b < B; ++b) {
+    const int k = b < count ? b : 0;
+    for (int n = 0; n < 4; ++n) {
+      const double* xn = x + 3 * Index(nodes[4 * k + n]);
+      const double* yn = at + 3 * Index(nodes[4 * k + n]);
+      for (int i = 0; i < 3; ++i) {
+        xs[n][i][b] = xn[i];
+        in.y[n][i][b] = yn[i];
+      }
+    }
+  }
+  const auto& G = elements.G;
+  for (int i = 0; i < 3; ++i)  // F = x G
+    for (int j = 0; j < 3; ++j)
+      for (int b = 0; b < B; ++b)
+        in.F[i][j][b] =
+            xs[0][i][b] * G[0][j][b] + xs[1][i][b] * G[1][j][b] + xs[2][i][b] * G[2][j][b] + xs[3][i][b] * G[3][j][b];
+}
+
 COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double lambda, double mu, double scale,
                                                 ForceStiffnessBatch<4, kTetBatch>& out) {
+  const auto& G = in.elements->G;
+  const auto& volume = in.elements->volume;
   // Rotated gradients a_i = R g_i.
   alignas(64) double a[4][3][B];
   for (int i = 0; i < 4; ++i)
     for (int r = 0; r < 3; ++r)
       for (int b = 0; b < B; ++b)
-        a[i][r][b] = in.R[r][0][b] * in.G[i][0][b] + in.R[r][1][b] * in.G[i][1][b] + in.R[r][2][b] * in.G[i][2][b];
+        a[i][r][b] = in.R[r][0][b] * G[i][0][b] + in.R[r][1][b] * G[i][1][b] + in.R[r][2][b] * G[i][2][b];
 
   // Forces: F = y G, strain = sym(R^T F) - I, sigma = 2 mu strain + lambda tr(strain) I,
   // f_a = P g_a with P = -V R sigma.
@@ -43,20 +68,20 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k)
       for (int b = 0; b < B; ++b)
-        F[i][k][b] = in.y[0][i][b] * in.G[0][k][b] + in.y[1][i][b] * in.G[1][k][b] + in.y[2][i][b] * in.G[2][k][b] +
-                     in.y[3][i][b] * in.G[3][k][b];
+        F[i][k][b] = in.y[0][i][b] * G[0][k][b] + in.y[1][i][b] * G[1][k][b] + in.y[2][i][b] * G[2][k][b] +
+                     in.y[3][i][b] * G[3][k][b];
   alignas(64) double sigma[3][3][B];
   stress(in.R, F, lambda, mu, sigma);
   alignas(64) double P[3][3][B];  // -V R sigma
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k)
       for (int b = 0; b < B; ++b)
-        P[i][k][b] = -in.volume[b] *
+        P[i][k][b] = -volume[b] *
                      (in.R[i][0][b] * sigma[0][k][b] + in.R[i][1][b] * sigma[1][k][b] + in.R[i][2][b] * sigma[2][k][b]);
   for (int n = 0; n < 4; ++n)
     for (int i = 0; i < 3; ++i)
       for (int b = 0; b < B; ++b)
-        out.f[n][i][b] = P[i][0][b] * in.G[n][0][b] + P[i][1][b] * in.G[n][1][b] + P[i][2][b] * in.G[n][2][b];
+        out.f[n][i][b] = P[i][0][b] * G[n][0][b] + P[i][1][b] * G[n][1][b] + P[i][2][b] * G[n][2][b];
 
   // Energy V/2 strain : sigma and det F at the frame's positions.
   alignas(64) double sigma_x[3][3][B];
@@ -69,7 +94,7 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
         if (i == j) c -= 1;
         contraction += c * sigma_x[i][j][b];  // sigma symmetric: strain : sigma = (R^T F - I) : sigma
       }
-    out.energy[b] = 0.5 * in.volume[b] * contraction;
+    out.energy[b] = 0.5 * volume[b] * contraction;
     const auto& F = in.F;
     out.volume_ratio[b] = F[0][0][b] * (F[1][1][b] * F[2][2][b] - F[1][2][b] * F[2][1][b]) -
                           F[0][1][b] * (F[1][0][b] * F[2][2][b] - F[1][2][b] * F[2][0][b]) +
@@ -82,7 +107,7 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
   for (int i = 0; i < 4; ++i)
     for (int j = i; j < 4; ++j, ++p)
       for (int b = 0; b < B; ++b) {
-        const double vl = scale * in.volume[b] * lambda, vm = scale * in.volume[b] * mu;
+        const double vl = scale * volume[b] * lambda, vm = scale * volume[b] * mu;
         const double d = vm * (a[i][0][b] * a[j][0][b] + a[i][1][b] * a[j][1][b] + a[i][2][b] * a[j][2][b]);
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c)

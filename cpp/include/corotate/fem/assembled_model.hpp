@@ -130,6 +130,9 @@ class AssembledModel final : public ForceModel {
   BlockSparseMatrix pattern_;
   std::vector<int> block_ids_;  // N * N per element: global block of element block (a, b)
   std::vector<ProductBlockTargets<N>> product_targets_;  // per element, for batched kernels
+  // Per batch of kFrameBatch elements (batches start at multiples of kFrameBatch: kChunk is
+  // one), the kernel's packed constants, for batched kernels.
+  std::vector<typename KernelBatchElements<Kernel>::type> batch_elements_;
   std::vector<typename Kernel::Element> elements_;  // empty for constant-stiffness kernels
   std::vector<typename Kernel::Cache> caches_, saved_caches_;
   std::vector<ElementMass<N>> masses_;
@@ -193,6 +196,10 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
     caches_.resize(m);
     schedule_chunks();
     if constexpr (kernel_sweeps_batches<Kernel>) {
+      static_assert(kChunk % kFrameBatch == 0, "a chunk is whole batches");
+      for (Index first = 0; first < m; first += kFrameBatch)
+        batch_elements_.push_back(
+            kernel_.pack_batch(&elements_[first], static_cast<int>(std::min<Index>(kFrameBatch, m - first))));
       product_targets_.reserve(m);
       for (Index e = 0; e < m; ++e) {
         int nodes[N];
@@ -345,8 +352,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
               const int count = static_cast<int>(std::min<Index>(kFrameBatch, last - first));
               if constexpr (kernel_sweeps_batches<Kernel>) {
                 if (batched) {
-                  kernel_.sweep_batch(&elements_[first], x, linearize ? *what.forces_at : x, cells_.data() + first * N,
-                                      &caches_[first], count, what.stiffness_scale, batch);
+                  kernel_.sweep_batch(batch_elements_[first / kFrameBatch], x, linearize ? *what.forces_at : x,
+                                      cells_.data() + first * N, &caches_[first], count, what.stiffness_scale, batch);
                   finish_batch(first, count);
                   continue;
                 }

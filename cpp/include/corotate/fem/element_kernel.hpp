@@ -32,14 +32,16 @@
 //   void frames(const Element*, const NodeMatrix* x,          frames() computes up to this many
 //               Cache*, Frame*, int count) const;             consecutive elements' frames at
 //                                                             once, faster than one by one
-//   void sweep_batch(const Element*, const Nodes& x,          optional (kernels with frame_batch
-//       const Nodes& at, const int* nodes, Cache*, int count,  > 1): for count consecutive
-//       double scale, ForceStiffnessBatch<N, frame_batch>&)    elements at once (nodes: their
-//       const;                                                 N node indices each), frame() at
-//                                                             x, forces() at `at`, scale times
-//                                                             stiffness(), energy() and
-//                                                             volume_ratio() at x: the
-//                                                             implicit step's sweep
+//   using BatchElements = ...;                                optional (kernels with frame_batch
+//   BatchElements pack_batch(const Element*, int count) const; > 1), all three together: the
+//   void sweep_batch(const BatchElements&, const Nodes& x,     constants of count consecutive
+//       const Nodes& at, const int* nodes, Cache*, int count,  elements packed once at setup;
+//       double scale, ForceStiffnessBatch<N, frame_batch>&)    then for those elements at once
+//       const;                                                 (nodes: their N node indices
+//                                                             each), frame() at x, forces() at
+//                                                             `at`, scale times stiffness(),
+//                                                             energy() and volume_ratio() at
+//                                                             x: the implicit step's sweep
 //   double energy(const Element&, const Frame&, const NodeMatrix& x) const;
 //   void forces(const Element&, const Frame&, const NodeMatrix& x, NodeMatrix& f) const;
 //                                                             f = the element's nodal forces
@@ -136,14 +138,25 @@ template <class Kernel, class = void>
 struct KernelSweepsBatches : std::false_type {};
 template <class Kernel>
 struct KernelSweepsBatches<
-    Kernel,
-    std::void_t<decltype(std::declval<const Kernel&>().sweep_batch(
-        std::declval<const typename Kernel::Element*>(), std::declval<const Nodes&>(), std::declval<const Nodes&>(),
-        std::declval<const int*>(), std::declval<typename Kernel::Cache*>(), 0, 0.0,
-        std::declval<ForceStiffnessBatch<Kernel::ElementType::num_nodes, kernel_frame_batch<Kernel>>&>()))>>
+    Kernel, std::void_t<decltype(std::declval<const Kernel&>().sweep_batch(
+                std::declval<const Kernel&>().pack_batch(std::declval<const typename Kernel::Element*>(), 0),
+                std::declval<const Nodes&>(), std::declval<const Nodes&>(), std::declval<const int*>(),
+                std::declval<typename Kernel::Cache*>(), 0, 0.0,
+                std::declval<ForceStiffnessBatch<Kernel::ElementType::num_nodes, kernel_frame_batch<Kernel>>&>()))>>
     : std::true_type {};
 template <class Kernel>
 inline constexpr bool kernel_sweeps_batches = KernelSweepsBatches<Kernel>::value;
+
+// Kernel::BatchElements where the kernel sweeps batches, else an empty stand-in.
+struct NoBatchElements {};
+template <class Kernel, bool = kernel_sweeps_batches<Kernel>>
+struct KernelBatchElements {
+  using type = NoBatchElements;
+};
+template <class Kernel>
+struct KernelBatchElements<Kernel, true> {
+  using type = typename Kernel::BatchElements;
+};
 
 // For kernels without per-configuration quantities or caches.
 struct NoFrame {};

@@ -63,35 +63,29 @@ class CorotationalKernel<Tet4> {
       out[b] = {R[b], F[b]};
     }
   }
+  using BatchElements = TetBatchElements;
+  // The constants of count <= frame_batch consecutive elements, packed for sweep_batch.
+  BatchElements pack_batch(const Element* el, int count) const {
+    BatchElements out;
+    for (int b = 0; b < frame_batch; ++b) {
+      const int k = b < count ? b : 0;  // lanes past count repeat the first element
+      for (int n = 0; n < 4; ++n)
+        for (int i = 0; i < 3; ++i) out.G[n][i][b] = el[k].G(n, i);
+      out.volume[b] = el[k].volume;
+    }
+    return out;
+  }
   // The implicit step's sweep of count <= frame_batch elements at once: frames() at x, then
   // forces() at `at` (x, or the linearisation's y), scale times stiffness(), energy() and
   // volume_ratio() at x (corotational_tet_batch.hpp). The elements stay in lanes throughout:
   // positions gathered straight into the batch, F and R computed and used there, never
   // stored element by element (shuffling between the two layouts cost 12 % of the sweep at
-  // 15,360 tets). nodes: the elements' node indices, 4 each.
-  void sweep_batch(const Element* el, const Nodes& x, const Nodes& at, const int* nodes, Cache* cache, int count,
+  // 15,360 tets). nodes: the elements' node indices, 4 each; el: theirs from pack_batch.
+  void sweep_batch(const BatchElements& el, const Nodes& x, const Nodes& at, const int* nodes, Cache* cache, int count,
                    double scale, ForceStiffnessBatch<4, frame_batch>& out) const {
     static_assert(frame_batch == kRotationLanes);
     TetBatchInput in;
-    alignas(64) double xs[4][3][frame_batch];
-    for (int b = 0; b < frame_batch; ++b) {
-      const int k = b < count ? b : 0;  // lanes past count repeat the first element
-      for (int n = 0; n < 4; ++n) {
-        const double* xn = x.col(nodes[4 * k + n]).data();
-        const double* yn = at.col(nodes[4 * k + n]).data();
-        for (int i = 0; i < 3; ++i) {
-          in.G[n][i][b] = el[k].G(n, i);
-          xs[n][i][b] = xn[i];
-          in.y[n][i][b] = yn[i];
-        }
-      }
-      in.volume[b] = el[k].volume;
-    }
-    for (int i = 0; i < 3; ++i)  // F = x G
-      for (int j = 0; j < 3; ++j)
-        for (int b = 0; b < frame_batch; ++b)
-          in.F[i][j][b] = xs[0][i][b] * in.G[0][j][b] + xs[1][i][b] * in.G[1][j][b] + xs[2][i][b] * in.G[2][j][b] +
-                          xs[3][i][b] * in.G[3][j][b];
+    gather_tet_batch(el, x.data(), at.data(), nodes, count, in);
     Eigen::Quaterniond q[frame_batch];
     for (int b = 0; b < count; ++b) q[b] = cache[b].q;
     extract_rotations(in.F, q, in.R, count);
