@@ -1,9 +1,7 @@
 // Adding a batched kernel's stiffness blocks (ForceStiffnessBatch, element_kernel.hpp) to the
 // global block-sparse values: for each element of the batch, each upper block (a, b) to its
-// global block and its transpose to the mirrored one (b, a). A lane's nine entries (8 * Batch
-// bytes apart) are gathered into a contiguous block first, so that the adds into the matrix
-// are Eigen's vector adds (two doubles at a time: Eigen picks its packets per translation
-// unit, not per clone) instead of nine scalar read-modify-writes: 4 % off the sweep.
+// global block and its transpose to the mirrored one (b, a). A lane's nine entries lie
+// 8 * Batch bytes apart.
 #pragma once
 
 #include <algorithm>
@@ -14,22 +12,31 @@
 
 namespace corotate {
 
+// dst += one lane's block (entry k = 3 r + c at K[k * Batch]), or its transpose. Straight
+// from the lanes into the matrix, entry by entry: building the block in a local array first
+// made the compiler store it as one wide vector and load it back in halves, a
+// store-forwarding stall on every block (3 % of the sweep at 15,360 tets).
+template <int Batch>
+COROTATE_CLONE_INLINE void add_lane_block(double* dst, const double* K) {
+  for (int k = 0; k < 9; ++k) dst[k] += K[k * Batch];
+}
+template <int Batch>
+COROTATE_CLONE_INLINE void add_lane_block_transposed(double* dst, const double* K) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) dst[3 * c + r] += K[(3 * r + c) * Batch];
+}
+
 // ids: N * N global block indices per element, of count consecutive elements.
 template <int N, int Batch>
 COROTATE_CLONE_INLINE void add_batch_blocks(const ForceStiffnessBatch<N, Batch>& batch, int count, const int* ids,
                                             double* values) {
-  using Block = Eigen::Matrix<double, 9, 1>;
   for (int b = 0; b < count; ++b, ids += N * N) {
     int p = 0;
     for (int i = 0; i < N; ++i)
       for (int j = i; j < N; ++j, ++p) {
-        Block block, transposed;
-        for (int k = 0; k < 9; ++k) block[k] = batch.K[p][k][b];
-        Eigen::Map<Block>(values + 9 * ids[i * N + j]) += block;
-        if (i == j) continue;  // diagonal blocks are symmetric
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) transposed[3 * c + r] = block[3 * r + c];
-        Eigen::Map<Block>(values + 9 * ids[j * N + i]) += transposed;
+        const double* K = &batch.K[p][0][b];
+        add_lane_block<Batch>(values + 9 * ids[i * N + j], K);
+        if (i != j) add_lane_block_transposed<Batch>(values + 9 * ids[j * N + i], K);  // diagonal ones are symmetric
       }
   }
 }
@@ -69,26 +76,38 @@ ProductBlockTargets<N> product_block_targets(const BlockSparseMatrix& pattern, c
 template <int N, int Batch>
 COROTATE_CLONE_INLINE void add_batch_product_blocks(const ForceStiffnessBatch<N, Batch>& batch, int count,
                                                     const ProductBlockTargets<N>* targets, double* values) {
-  using Block = Eigen::Matrix<double, 9, 1>;
   for (int b = 0; b < count; ++b) {
     const ProductBlockTargets<N>& t = targets[b];
     int p = 0, q = 0;
     for (int i = 0; i < N; ++i)
       for (int j = i; j < N; ++j, ++p) {
-        Block block, transposed;
-        for (int k = 0; k < 9; ++k) block[k] = batch.K[p][k][b];
+        const double* K = &batch.K[p][0][b];  // entry k = 3 r + c at K[k * Batch]
         if (i == j) {
-          Eigen::Map<Block>(values + 9 * t.diagonal[i]) += block;
+          double* d = values + 9 * t.diagonal[i];
+          for (int k = 0; k < 9; ++k) d[k] += K[k * Batch];
           continue;
         }
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) transposed[3 * c + r] = block[3 * r + c];
-        // Which of the two goes above the diagonal depends on the node numbers: a select of
-        // pointers, not a branch (it would be mispredicted on an unstructured mesh).
-        const Block* up = t.transposed[q] ? &transposed : &block;
-        const Block* down = t.transposed[q] ? &block : &transposed;
-        Eigen::Map<Block>(values + 9 * t.upper[q]) += *up;
-        if (t.lower[q] >= 0) Eigen::Map<Block>(values + 9 * t.lower[q]) += *down;  // across chunks only
+        // Which of the block and its transpose goes above the diagonal depends on the node
+        // numbers. A branch: a select of pointers or of entries kept the adds from
+        // vectorising, and on the unstructured armadillo the branch costs no more. The
+        // mirror below the diagonal is stored across row chunks only (lower >= 0). (Written
+        // out: the same loops through add_lane_block compiled slower here.)
+        double* up = values + 9 * t.upper[q];
+        if (t.transposed[q]) {
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) up[3 * c + r] += K[(3 * r + c) * Batch];
+          if (t.lower[q] >= 0) {
+            double* down = values + 9 * t.lower[q];
+            for (int k = 0; k < 9; ++k) down[k] += K[k * Batch];
+          }
+        } else {
+          for (int k = 0; k < 9; ++k) up[k] += K[k * Batch];
+          if (t.lower[q] >= 0) {
+            double* down = values + 9 * t.lower[q];
+            for (int r = 0; r < 3; ++r)
+              for (int c = 0; c < 3; ++c) down[3 * c + r] += K[(3 * r + c) * Batch];
+          }
+        }
         ++q;
       }
   }
