@@ -165,40 +165,38 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   z.resize(3 * n);
   double* z4 = z4_.data();
   const double* y4 = y4_.data();
-  // z = w D^-1 r, also padded for the product.
-  COROTATE_PARALLEL_FOR(n >= 512)
-  for (Index i = 0; i < n; ++i) {
-    const Vec3 zi = w * (diagonal_.inverse_block(i) * r.segment<3>(3 * i));
+  // Node i's residual r - A z from the last product, and z_i written to both layouts.
+  auto residual = [&](Index i) {
+    return Vec3(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
+                r[3 * i + 2] - unscale * y4[4 * i + 2]);
+  };
+  auto set_z = [&](Index i, const Vec3& zi) {
     z.segment<3>(3 * i) = zi;
     z4[4 * i] = zi[0], z4[4 * i + 1] = zi[1], z4[4 * i + 2] = zi[2];
-  }
+  };
+  // z = w D^-1 r.
+  COROTATE_PARALLEL_FOR(n >= 512)
+  for (Index i = 0; i < n; ++i) set_z(i, w * (diagonal_.inverse_block(i) * r.segment<3>(3 * i)));
   A_single_.multiply_padded(z4, y4_.data());
   // Coarse right-hand side P(x)^T (r - A z).
   COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) {
-    const Vec3 res(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
-                   r[3 * i + 2] - unscale * y4[4 * i + 2]);
+    const Vec3 res = residual(i);
     turned_.segment<3>(3 * i).noalias() = rotated ? Vec3(rotations_.rotation(aggregate[i]).transpose() * res) : res;
   }
   prolongator_.restrict_to(turned_, coarse_rhs_);
   coarse_factor_.solve(coarse_rhs_, coarse_solution_);
   prolongator_.prolong(coarse_solution_, turned_, false);
-  // z += P(x) e, padded again for the second product.
+  // z += P(x) e.
   COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) {
     const Vec3 e = turned_.segment<3>(3 * i);
-    const Vec3 zi = z.segment<3>(3 * i) + (rotated ? Vec3(rotations_.rotation(aggregate[i]) * e) : e);
-    z.segment<3>(3 * i) = zi;
-    z4[4 * i] = zi[0], z4[4 * i + 1] = zi[1], z4[4 * i + 2] = zi[2];
+    set_z(i, z.segment<3>(3 * i) + (rotated ? Vec3(rotations_.rotation(aggregate[i]) * e) : e));
   }
   A_single_.multiply_padded(z4, y4_.data());
   // z += w D^-1 (r - A z).
   COROTATE_PARALLEL_FOR(n >= 512)
-  for (Index i = 0; i < n; ++i) {
-    const Vec3 res(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
-                   r[3 * i + 2] - unscale * y4[4 * i + 2]);
-    z.segment<3>(3 * i) += w * (diagonal_.inverse_block(i) * res);
-  }
+  for (Index i = 0; i < n; ++i) z.segment<3>(3 * i) += w * (diagonal_.inverse_block(i) * residual(i));
 }
 
 }  // namespace corotate
