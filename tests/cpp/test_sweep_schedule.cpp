@@ -61,6 +61,16 @@ TEST(sweep_schedule_splits_a_beam_into_concurrent_halves_and_small_separators) {
   CHECK(out_of_order <= 8);
 }
 
+TEST(sweep_schedule_gives_the_thread_tests_mesh_concurrent_parts) {
+  // test_parallel.cpp's beam (48 x 4 x 4 cubes, 9 chunks): its one- against two-thread
+  // checks mean something only if two parts of it run at the same time.
+  const auto mesh = fixtures::tet_beam(48, 4, 4);
+  const SweepSchedule s = schedule_sweep(mesh.cells.data(), 4, mesh.cells.rows(), mesh.points.cols(), 512);
+  check_schedule(s, mesh.cells, 512);
+  CHECK(s.num_chunks == 9);
+  CHECK(s.phases.front().size() == 2);
+}
+
 TEST(sweep_schedule_stays_valid_on_a_shuffled_mesh_and_small_ones) {
   auto mesh = fixtures::tet_beam(40, 4, 4);  // 3,840 tets
   std::vector<Index> perm(mesh.cells.rows());

@@ -86,10 +86,4 @@ void AggregateRotations::from_built_frame(const Vec& v, Vec& out) const {
   }
 }
 
-void AggregateRotations::add_from_built_frame(const Vec& v, Vec& out) const {
-  const Index n = static_cast<Index>(aggregate_.size());
-  COROTATE_PARALLEL_FOR(n >= 512)
-  for (Index i = 0; i < n; ++i) out.segment<3>(3 * i).noalias() += rotations_[aggregate_[i]] * v.segment<3>(3 * i);
-}
-
 }  // namespace corotate

