@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "corotate/sparse/single_precision_symmetric.hpp"
+
 namespace corotate {
 
 void Attachments::check_nodes(const std::vector<Index>& nodes, bool must_be_attached) const {
@@ -96,6 +98,10 @@ void Attachments::add_forces(const Nodes& x, Nodes& f) const {
 
 void Attachments::add_stiffness(double scale, BlockSparseMatrix& A) const {
   for (Index a = 0; a < size(); ++a) A.block(A.diagonal_block(nodes_[a])).diagonal().array() += scale * stiffness_[a];
+}
+
+void Attachments::add_stiffness(double scale, SinglePrecisionSymmetric& A) const {
+  for (Index a = 0; a < size(); ++a) A.add_to_diagonal(nodes_[a], scale * stiffness_[a]);
 }
 
 double Attachments::energy(const Nodes& x) const {

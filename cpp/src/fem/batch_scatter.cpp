@@ -12,4 +12,9 @@ COROTATE_CPU_CLONES void add_batch_product_blocks(const ForceStiffnessBatch<4, 1
   add_batch_product_blocks<4, 16>(batch, count, targets, values);
 }
 
+COROTATE_CPU_CLONES void add_batch_product_blocks(const ForceStiffnessBatch<4, 16>& batch, int count,
+                                                  const ProductBlockTargets<4>* targets, float* values) {
+  add_batch_product_blocks<4, 16>(batch, count, targets, values);
+}
+
 }  // namespace corotate

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "corotate/sparse/single_precision_symmetric.hpp"
+
 namespace corotate {
 
 FixedDofs::FixedDofs(const BlockSparseMatrix& pattern, const std::vector<char>& fixed) {
@@ -41,6 +43,20 @@ void FixedDofs::project(BlockSparseMatrix& A) const {
   auto& values = A.values();
   for (int v : zero_values_) values[v] = 0.0;
   for (int v : unit_values_) values[v] = 1.0;
+}
+
+void FixedDofs::project(SinglePrecisionSymmetric& A) const {
+  float* values = A.values();
+  // A value index 9 k + e of the pattern is entry e of its block k, stored or not.
+  auto stored = [&](int v) {
+    const int block = A.block_position(v / 9);
+    return block < 0 ? nullptr : values + 9 * block + v % 9;
+  };
+  for (int v : zero_values_)
+    if (float* p = stored(v)) *p = 0.0f;
+  const auto one = static_cast<float>(1.0 / A.unscale());  // a power of two: exact
+  for (int v : unit_values_)
+    if (float* p = stored(v)) *p = one;
 }
 
 void FixedDofs::project(Eigen::Ref<Vec> b) const {

@@ -1,9 +1,13 @@
 #include "corotate/integrators/implicit_integrator.hpp"
 
+#include <atomic>
+
 namespace corotate {
 
 void ImplicitIntegrator::attach(ForceModel& model) {
   mass_ = model.mass_matrix(settings().lumped_mass);
+  static std::atomic<std::uint64_t> versions{0};
+  mass_version_ = ++versions;
   system_ = model.pattern();
   const Index n = model.num_nodes();
   force_.setZero(3, n);

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "corotate/integrators/implicit_integrator.hpp"
+#include "corotate/sparse/single_precision_symmetric.hpp"
 
 namespace corotate {
 
@@ -28,9 +29,14 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     force_ = in.load;
     y_ = in.x + (dt + beta) * in.v;
     // Only the blocks the solve reads: a third fewer to add (a PCG whose preconditioner is
-    // built reads the rest only when it rebuilds).
-    const bool lower_blocks = in.solver.needs_lower_blocks();
-    system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
+    // built reads the rest only when it rebuilds). Where the solver multiplies in float32
+    // anyway, the system goes straight into its float32 copy: no double matrix to fill and
+    // convert (LinearSolver::single_precision_target).
+    SinglePrecisionSymmetric* single =
+        in.model.assembles_single_precision() ? in.solver.single_precision_target() : nullptr;
+    const bool lower_blocks = !single && in.solver.needs_lower_blocks();
+    if (single) single->start_assembly(mass_, 1 + dt * alpha, mass_version_);
+    else system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
     Request what;
     what.lower_blocks = lower_blocks;
     what.forces = true;
@@ -41,12 +47,14 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     what.stiffness_scale = dt * dt + dt * beta;
     Results out;
     out.forces = &force_;
-    out.stiffness = &system_;
+    if (single) out.single_stiffness = single;
+    else out.stiffness = &system_;
     in.model.evaluate(in.x, what, out);
     // The attachment springs are linear: their force at y is their linearisation, and their
     // stiffness goes into A like the body's (damped by beta with it).
     in.attachments.add_forces(y_, force_);
-    in.attachments.add_stiffness(what.stiffness_scale, system_);
+    if (single) in.attachments.add_stiffness(what.stiffness_scale, *single);
+    else in.attachments.add_stiffness(what.stiffness_scale, system_);
     if (in.diagnose) {
       stats.start_energy = out.energy;
       stats.start_inverted = out.inverted;
@@ -56,7 +64,8 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       mass_.multiply(as_dofs(in.v), work_);
       rhs_ -= (dt * alpha) * work_;
     }
-    in.fixed.project(system_);
+    if (single) in.fixed.project(*single);
+    else in.fixed.project(system_);
     in.fixed.project(rhs_);
     stats.assembly_ms = ms_since(t_start);
 
@@ -64,7 +73,7 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     const auto t_solve = clock::now();
     in.solver.set_positions(in.x);
     try {
-      stats.solve = in.solver.solve(system_, rhs_, dv_);
+      stats.solve = single ? in.solver.solve_single_precision(rhs_, dv_) : in.solver.solve(system_, rhs_, dv_);
     } catch (const NotPositiveDefinite& e) {
       // A linearised step needs M + dt^2 K positive definite; a hyperelastic tangent under
       // compression (StVK sheets crumpling, inverted elements) is not, and the step that

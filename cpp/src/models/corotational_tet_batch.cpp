@@ -1,5 +1,7 @@
 #include "corotate/models/corotational_tet_batch.hpp"
 
+#include <type_traits>
+
 #include "corotate/cpu_clones.hpp"
 
 namespace corotate {
@@ -103,17 +105,22 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
 
   // Blocks (i, j), i <= j: with u = a_i a_j^T, lambda V u + mu V u^T + mu V (a_i . a_j) I.
   // Diagonal blocks come out exactly symmetric (u is).
-  int p = 0;
-  for (int i = 0; i < 4; ++i)
-    for (int j = i; j < 4; ++j, ++p)
-      for (int b = 0; b < B; ++b) {
-        const double vl = scale * volume[b] * lambda, vm = scale * volume[b] * mu;
-        const double d = vm * (a[i][0][b] * a[j][0][b] + a[i][1][b] * a[j][1][b] + a[i][2][b] * a[j][2][b]);
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c)
-            out.K[p][3 * r + c][b] =
-                vl * (a[i][r][b] * a[j][c][b]) + vm * (a[j][r][b] * a[i][c][b]) + (r == c ? d : 0.0);
-      }
+  auto blocks = [&](auto& K) {
+    using Value = std::remove_reference_t<decltype(K[0][0][0])>;
+    int p = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i; j < 4; ++j, ++p)
+        for (int b = 0; b < B; ++b) {
+          const double vl = scale * volume[b] * lambda, vm = scale * volume[b] * mu;
+          const double d = vm * (a[i][0][b] * a[j][0][b] + a[i][1][b] * a[j][1][b] + a[i][2][b] * a[j][2][b]);
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+              K[p][3 * r + c][b] =
+                  Value(vl * (a[i][r][b] * a[j][c][b]) + vm * (a[j][r][b] * a[i][c][b]) + (r == c ? d : 0.0));
+        }
+  };
+  if (out.single) blocks(out.K_single);
+  else blocks(out.K);
 }
 
 }  // namespace corotate

@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "corotate/sparse/single_precision_symmetric.hpp"
+
 namespace corotate {
 
 double ForceModel::energy(const Nodes& x) {
@@ -49,10 +51,17 @@ void ForceModel::check_evaluation(const Nodes& x, const Request& what, const Res
   if (what.forces_at && what.forces_at->cols() != n) fail("the linearisation point has the wrong number of nodes");
   if (what.forces_at && what.stiffness != StiffnessKind::None && what.stiffness != StiffnessKind::Model)
     fail("linearised forces go with the Model stiffness only");
-  if (what.stiffness != StiffnessKind::None &&
-      (!out.stiffness || out.stiffness->num_blocks() != pattern().num_blocks() ||
-       out.stiffness->num_nodes() != pattern().num_nodes()))
+  if (out.single_stiffness) {
+    if (!assembles_single_precision() || what.stiffness != StiffnessKind::Model || !what.forces || what.lower_blocks)
+      fail("only the implicit step's forces and Model stiffness go to a float32 system, and not from this model");
+    if (!out.single_stiffness->has_layout() || out.single_stiffness->num_pattern_blocks() != pattern().num_blocks() ||
+        out.single_stiffness->num_nodes() != pattern().num_nodes())
+      fail("the float32 system does not have the model's pattern");
+  } else if (what.stiffness != StiffnessKind::None &&
+             (!out.stiffness || out.stiffness->num_blocks() != pattern().num_blocks() ||
+              out.stiffness->num_nodes() != pattern().num_nodes())) {
     fail("the stiffness matrix is missing or does not have the model's pattern");
+  }
 }
 
 }  // namespace corotate

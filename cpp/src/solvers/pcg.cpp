@@ -31,23 +31,38 @@ void PCG::precondition() {
   for (size_t k = 0; k < fixed_dofs_.size(); ++k) r_[fixed_dofs_[k]] = z_[fixed_dofs_[k]] = fixed_residual_[k];
 }
 
-void PCG::multiply(const BlockSparseMatrix& A, const SinglePrecisionSymmetric* single, const Vec& v, Vec& out) const {
+void PCG::multiply(const BlockSparseMatrix* A, const SinglePrecisionSymmetric* single, const Vec& v, Vec& out) const {
   if (single) single->multiply(v, out);
-  else A.multiply_symmetric(v, out);
+  else A->multiply_symmetric(v, out);
 }
 
 SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
+  if (!fixed_dofs_.empty() && fixed_dofs_.back() >= b.size())
+    throw InvalidInput("PCG: the fixed DOFs it was given do not belong to this " + std::to_string(b.size()) +
+                       "-DOF system");
+  preconditioner_->compute(A);
+  const SinglePrecisionSymmetric* single =
+      settings_.tolerance >= kSinglePrecisionProductTolerance ? preconditioner_->single_precision_matrix() : nullptr;
+  return iterate(&A, single, b, x);
+}
+
+SolveStats PCG::solve_single_precision(const Vec& b, Vec& x) {
+  SinglePrecisionSymmetric* single = single_precision_target();
+  if (!single) throw InvalidInput("PCG: no float32 system to solve (single_precision_target() is null)");
+  if (single->num_nodes() * 3 != b.size() || (!fixed_dofs_.empty() && fixed_dofs_.back() >= b.size()))
+    throw InvalidInput("PCG: a right-hand side of " + std::to_string(b.size()) + " entries for a " +
+                       std::to_string(3 * single->num_nodes()) + "-DOF float32 system and its fixed DOFs");
+  preconditioner_->compute_assembled();
+  return iterate(nullptr, single, b, x);
+}
+
+SolveStats PCG::iterate(const BlockSparseMatrix* A, const SinglePrecisionSymmetric* single, const Vec& b, Vec& x) {
   const Index n = b.size();
   r_.resize(n);
   z_.resize(n);
   p_.resize(n);
   q_.resize(n);
-  if (!fixed_dofs_.empty() && fixed_dofs_.back() >= n)
-    throw InvalidInput("PCG: the fixed DOFs it was given do not belong to this " + std::to_string(n) + "-DOF system");
   if (!settings_.warm_start || x.size() != n) x.setZero(n);
-  preconditioner_->compute(A);
-  const SinglePrecisionSymmetric* single =
-      settings_.tolerance >= kSinglePrecisionProductTolerance ? preconditioner_->single_precision_matrix() : nullptr;
 
   const double b_norm = b.norm();
   if (!std::isfinite(b_norm))  // also catches entries so large that the norm overflows

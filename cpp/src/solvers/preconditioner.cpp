@@ -18,15 +18,21 @@ void JacobiPreconditioner::compute(const BlockSparseMatrix& A) {
   }
 }
 
+void BlockJacobiPreconditioner::invert(Index node, const Mat3& block) {
+  bool invertible = false;
+  block.computeInverseWithCheck(inverse_blocks_[node], invertible);
+  if (!invertible)
+    throw NotPositiveDefinite("block-Jacobi preconditioner: singular diagonal block at node " + std::to_string(node));
+}
+
 void BlockJacobiPreconditioner::compute(const BlockSparseMatrix& A) {
   inverse_blocks_.resize(A.num_nodes());
-  for (Index i = 0; i < A.num_nodes(); ++i) {
-    const Mat3 block = A.block(A.diagonal_block(i));
-    bool invertible = false;
-    block.computeInverseWithCheck(inverse_blocks_[i], invertible);
-    if (!invertible)
-      throw NotPositiveDefinite("block-Jacobi preconditioner: singular diagonal block at node " + std::to_string(i));
-  }
+  for (Index i = 0; i < A.num_nodes(); ++i) invert(i, A.block(A.diagonal_block(i)));
+}
+
+void BlockJacobiPreconditioner::compute(const SinglePrecisionSymmetric& A) {
+  inverse_blocks_.resize(A.num_nodes());
+  for (Index i = 0; i < A.num_nodes(); ++i) invert(i, A.diagonal_block(i));
 }
 
 void BlockJacobiPreconditioner::apply(const Vec& r, Vec& z) {

@@ -139,18 +139,25 @@ void TwoLevelPreconditioner::set_positions(const Nodes& x) {
   positions_pending_ = true;
 }
 
-void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
-  if (positions_.cols() != 0 && positions_.cols() != A.num_nodes())
+void TwoLevelPreconditioner::turn(Index num_nodes) {
+  if (positions_.cols() != 0 && positions_.cols() != num_nodes)
     throw InvalidInput("two_level preconditioner: positions of " + std::to_string(positions_.cols()) + " nodes for a " +
-                       std::to_string(A.num_nodes()) + "-node system");
-  if (!ready_) {
-    setup(A);
-  } else if (positions_pending_) {
-    rotations_.update(positions_);
-  }
+                       std::to_string(num_nodes) + "-node system");
+  if (ready_ && positions_pending_) rotations_.update(positions_);
   positions_pending_ = false;
+}
+
+void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
+  turn(A.num_nodes());  // before the build, only checks the positions (the build starts there)
+  if (!ready_) setup(A);
   A_single_.assign(A);
   diagonal_.compute(A);
+}
+
+void TwoLevelPreconditioner::compute_assembled() {
+  if (!ready_) throw InvalidInput("two_level preconditioner: a float32 system before the hierarchy was built");
+  turn(A_single_.num_nodes());
+  diagonal_.compute(A_single_);
 }
 
 void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {

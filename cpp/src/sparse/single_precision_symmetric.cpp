@@ -1,7 +1,9 @@
 #include "corotate/sparse/single_precision_symmetric.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
 
 #include "corotate/cpu_clones.hpp"
 #include "corotate/parallel.hpp"
@@ -25,10 +27,14 @@ void SinglePrecisionSymmetric::build_layout(const BlockSparseMatrix& A) {
   chunk_end_.resize(n);
   columns_.clear();
   const auto& cols = A.columns();
+  block_position_.assign(A.num_blocks(), -1);
   for (Index i = 0; i < n; ++i) {  // the product runs, the diagonal first in the second
     const auto [lower, upper] = A.product_runs(i);
+    for (int k = lower.first; k < lower.second; ++k)
+      block_position_[k] = static_cast<int>(columns_.size()) + k - lower.first;
     columns_.insert(columns_.end(), cols.begin() + lower.first, cols.begin() + lower.second);
     diagonal_[i] = static_cast<int>(columns_.size());
+    for (int k = upper.first; k < upper.second; ++k) block_position_[k] = diagonal_[i] + k - upper.first;
     columns_.insert(columns_.end(), cols.begin() + upper.first, cols.begin() + upper.second);
     chunk_end_[i] = diagonal_[i] + (A.chunk_upper(i) - upper.first);
     row_first_.push_back(static_cast<int>(columns_.size()));
@@ -37,6 +43,21 @@ void SinglePrecisionSymmetric::build_layout(const BlockSparseMatrix& A) {
   pattern_rows_ = A.row_start();
   pattern_columns_ = A.columns().data();
   pattern_blocks_ = A.num_blocks();
+  static std::atomic<std::uint64_t> layouts{0};
+  layout_id_ = ++layouts;
+}
+
+COROTATE_CPU_CLONES void SinglePrecisionSymmetric::convert_from(const BlockSparseMatrix& A, double scale,
+                                                                float* dst) const {
+  // Row by row, the stored blocks are A's two product runs; each converts as one flat loop.
+  const double* src = A.values().data();
+  const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
+  COROTATE_PARALLEL_FOR(chunks > 1)
+  for (Index c = 0; c < chunks; ++c)
+    for (int i = chunk_start_[c]; i < chunk_start_[c + 1]; ++i) {
+      float* out = dst + 9 * row_first_[i];
+      for (const auto& [begin, end] : A.product_runs(i)) out = convert(src + 9 * begin, src + 9 * end, scale, out);
+    }
 }
 
 COROTATE_CPU_CLONES void SinglePrecisionSymmetric::assign(const BlockSparseMatrix& A) {
@@ -56,16 +77,33 @@ COROTATE_CPU_CLONES void SinglePrecisionSymmetric::assign(const BlockSparseMatri
   int exponent = 0;
   if (largest > 0 && std::isfinite(largest)) std::frexp(largest, &exponent);
   unscale_ = std::ldexp(1.0, exponent);
-  const double scale = std::ldexp(1.0, -exponent);
-  // Row by row, the stored blocks are A's two product runs; each converts as one flat loop.
-  float* dst = values_.data();
-  const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
-  COROTATE_PARALLEL_FOR(chunks > 1)
-  for (Index c = 0; c < chunks; ++c)
-    for (int i = chunk_start_[c]; i < chunk_start_[c + 1]; ++i) {
-      float* out = dst + 9 * row_first_[i];
-      for (const auto& [begin, end] : A.product_runs(i)) out = convert(src + 9 * begin, src + 9 * end, scale, out);
-    }
+  convert_from(A, std::ldexp(1.0, -exponent), values_.data());
+}
+
+void SinglePrecisionSymmetric::start_assembly(const BlockSparseMatrix& M, double s, std::uint64_t version) {
+  if (s != start_s_ || unscale_ != start_unscale_ || version != start_version_ || layout_id_ != start_layout_) {
+    // (The pattern is checked only here: the caller's version number stands for M.)
+    if (!has_layout() || M.num_blocks() != pattern_blocks_ || M.row_start() != pattern_rows_ ||
+        !std::equal(M.columns().begin(), M.columns().end(), pattern_columns_))
+      throw InvalidInput("float32 assembly: the starting matrix is not in the pattern of the system's layout");
+    start_values_.assign(values_.size(), 0.0f);  // the padding stays zero
+    convert_from(M, s / unscale_, start_values_.data());
+    start_s_ = s, start_unscale_ = unscale_, start_version_ = version, start_layout_ = layout_id_;
+  }
+  std::memcpy(values_.data(), start_values_.data(), values_.size() * sizeof(float));
+}
+
+void SinglePrecisionSymmetric::add_to_diagonal(Index i, double value) {
+  float* d = values_.data() + 9 * diagonal_[i];
+  for (int r = 0; r < 3; ++r) d[4 * r] = static_cast<float>(d[4 * r] + value / unscale_);
+}
+
+Mat3 SinglePrecisionSymmetric::diagonal_block(Index i) const {
+  const float* d = values_.data() + 9 * diagonal_[i];
+  Mat3 block;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) block(r, c) = unscale_ * d[3 * r + c];
+  return block;
 }
 
 // BlockSparseMatrix::multiply_symmetric's rows over the float copy: the blocks across chunks

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <exception>
 #include <sstream>
 #include <type_traits>
@@ -25,6 +26,7 @@
 #include "corotate/materials/psd_projection.hpp"
 #include "corotate/models/force_model.hpp"
 #include "corotate/parallel.hpp"
+#include "corotate/sparse/single_precision_symmetric.hpp"
 
 namespace corotate {
 
@@ -52,6 +54,10 @@ class AssembledModel final : public ForceModel {
   BlockSparseMatrix mass_matrix(bool lumped) const override;
   bool is_linear() const override { return Kernel::constant_stiffness; }
   bool symmetric_tangent() const override { return kernel_symmetric_tangent<Kernel>; }
+  // The batched sweep (co-rotated tets) scatters into float32 as well.
+  bool assembles_single_precision() const override {
+    return kernel_sweeps_batches<Kernel> && !project_psd_ && Kernel::forces_linear_given_frame;
+  }
   void evaluate(const Nodes& x, const Request& what, Results& out) override;
   void save_caches() override {
     if constexpr (!std::is_empty_v<typename Kernel::Cache>) saved_caches_ = caches_;
@@ -130,6 +136,11 @@ class AssembledModel final : public ForceModel {
   BlockSparseMatrix pattern_;
   std::vector<int> block_ids_;  // N * N per element: global block of element block (a, b)
   std::vector<ProductBlockTargets<N>> product_targets_;  // per element, for batched kernels
+  // The same in the stored blocks of a float32 system (Results::single_stiffness), made
+  // for the layout single_layout_ when one is first given.
+  std::vector<ProductBlockTargets<N>> single_targets_;
+  std::uint64_t single_layout_ = 0;
+  void target_single_precision(const SinglePrecisionSymmetric& single);
   // Per batch of kFrameBatch elements (batches start at multiples of kFrameBatch: kChunk is
   // one), the kernel's packed constants, for batched kernels.
   std::vector<typename KernelBatchElements<Kernel>::type> batch_elements_;
@@ -242,12 +253,26 @@ void AssembledModel<Kernel>::scatter(Index e, double scale, const Stiffness& Ke,
 }
 
 template <class Kernel>
+void AssembledModel<Kernel>::target_single_precision(const SinglePrecisionSymmetric& single) {
+  if constexpr (kernel_sweeps_batches<Kernel>) {
+    single_targets_ = product_targets_;
+    for (auto& t : single_targets_) {
+      for (int& k : t.diagonal) k = single.block_position(k);
+      for (int& k : t.upper) k = single.block_position(k);
+      for (int& k : t.lower)
+        if (k >= 0) k = single.block_position(k);
+    }
+    single_layout_ = single.layout_id();
+  }
+}
+
+template <class Kernel>
 void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Results& out) {
   check_evaluation(x, what, out);
   if constexpr (Kernel::constant_stiffness) {
     evaluate_constant(x, what, out);
   } else {
-    const StiffnessKind kind = out.stiffness ? what.stiffness : StiffnessKind::None;
+    const StiffnessKind kind = out.stiffness || out.single_stiffness ? what.stiffness : StiffnessKind::None;
     const bool linearize = what.forces && what.forces_at;
     // The Model stiffness goes straight to the global matrix unless it is needed as an
     // element matrix: for PSD projection, or to linearise the forces.
@@ -267,6 +292,12 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
     bool batched = false;
     if constexpr (kernel_sweeps_batches<Kernel>)
       batched = kind == StiffnessKind::Model && direct_scatter && what.forces;
+    // (check_evaluation let a float32 system through only for this path.)
+    SinglePrecisionSymmetric* single = out.single_stiffness;
+    if (single && !batched)
+      throw InvalidInput(std::string("the '") + Kernel::name + "' model: no float32 assembly here");
+    if (single && single_layout_ != single->layout_id()) target_single_precision(*single);
+    const double stiffness_scale = single ? what.stiffness_scale / single->unscale() : what.stiffness_scale;
     auto element = [&](Index e, const NodeMatrix& xe, const typename Kernel::Frame& frame, NodeMatrix& ye,
                        NodeMatrix& fe, Stiffness& Ke, NodeScalars& k, double& energy, Index& inverted) {
       const auto& el = elements_[e];
@@ -328,6 +359,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
         for (const Index c : parts[i]) {
           NodeMatrix xe[kFrameBatch], ye, fe;
           Batch batch;
+          batch.single = single != nullptr;
           typename Kernel::Frame frames[kFrameBatch];
           Stiffness Ke;
           NodeScalars k;
@@ -344,7 +376,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
                 if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
                 scatter(first + b, batch, b, *out.forces);
               }
-              if (what.lower_blocks)
+              if (single) add_batch_product_blocks(batch, count, &single_targets_[first], single->values());
+              else if (what.lower_blocks)
                 add_batch_blocks(batch, count, block_ids_.data() + first * N * N, out.stiffness->values().data());
               else add_batch_product_blocks(batch, count, &product_targets_[first], out.stiffness->values().data());
             };
@@ -353,7 +386,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
               if constexpr (kernel_sweeps_batches<Kernel>) {
                 if (batched) {
                   kernel_.sweep_batch(batch_elements_[first / kFrameBatch], x, linearize ? *what.forces_at : x,
-                                      cells_.data() + first * N, &caches_[first], count, what.stiffness_scale, batch);
+                                      cells_.data() + first * N, &caches_[first], count, stiffness_scale, batch);
                   finish_batch(first, count);
                   continue;
                 }

@@ -16,6 +16,8 @@
 
 namespace corotate {
 
+class SinglePrecisionSymmetric;
+
 class Attachments {
  public:
   Attachments() = default;
@@ -45,6 +47,7 @@ class Attachments {
   void add_forces(const Nodes& x, Nodes& f) const;
   // A += scale * k I on the attached nodes' diagonal blocks.
   void add_stiffness(double scale, BlockSparseMatrix& A) const;
+  void add_stiffness(double scale, SinglePrecisionSymmetric& A) const;  // the same, in float32
   double energy(const Nodes& x) const;
   // max k / m over the attached nodes (masses: per node): the springs' share of omega_max^2.
   double max_rate(const Vec& masses) const;

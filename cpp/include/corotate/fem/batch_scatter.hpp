@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <type_traits>
 
 #include "corotate/cpu_clones.hpp"
 #include "corotate/fem/element_kernel.hpp"
@@ -72,18 +73,24 @@ ProductBlockTargets<N> product_block_targets(const BlockSparseMatrix& pattern, c
   return t;
 }
 
-// add_batch_blocks to the product blocks only (targets: one per element of the batch).
-template <int N, int Batch>
+// add_batch_blocks to the product blocks only (targets: one per element of the batch). Value
+// double (from batch.K), or float for a SinglePrecisionSymmetric's values (from
+// batch.K_single, the targets then in its stored blocks; summed in float32).
+template <int N, int Batch, class Value>
 COROTATE_CLONE_INLINE void add_batch_product_blocks(const ForceStiffnessBatch<N, Batch>& batch, int count,
-                                                    const ProductBlockTargets<N>* targets, double* values) {
+                                                    const ProductBlockTargets<N>* targets, Value* values) {
   for (int b = 0; b < count; ++b) {
     const ProductBlockTargets<N>& t = targets[b];
     int p = 0, q = 0;
     for (int i = 0; i < N; ++i)
       for (int j = i; j < N; ++j, ++p) {
-        const double* K = &batch.K[p][0][b];  // entry k = 3 r + c at K[k * Batch]
+        // entry k = 3 r + c at K[k * Batch]
+        const Value* K = [&] {
+          if constexpr (std::is_same_v<Value, float>) return &batch.K_single[p][0][b];
+          else return &batch.K[p][0][b];
+        }();
         if (i == j) {
-          double* d = values + 9 * t.diagonal[i];
+          Value* d = values + 9 * t.diagonal[i];
           for (int k = 0; k < 9; ++k) d[k] += K[k * Batch];
           continue;
         }
@@ -93,18 +100,18 @@ COROTATE_CLONE_INLINE void add_batch_product_blocks(const ForceStiffnessBatch<N,
         // mirror below the diagonal is stored across row chunks only (lower >= 0). (Written
         // out: the same loops through add_lane_block compiled slower here, assembly 1.92 against
         // 2.19 ms at 15,360 tets, measured twice.)
-        double* up = values + 9 * t.upper[q];
+        Value* up = values + 9 * t.upper[q];
         if (t.transposed[q]) {
           for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) up[3 * c + r] += K[(3 * r + c) * Batch];
           if (t.lower[q] >= 0) {
-            double* down = values + 9 * t.lower[q];
+            Value* down = values + 9 * t.lower[q];
             for (int k = 0; k < 9; ++k) down[k] += K[k * Batch];
           }
         } else {
           for (int k = 0; k < 9; ++k) up[k] += K[k * Batch];
           if (t.lower[q] >= 0) {
-            double* down = values + 9 * t.lower[q];
+            Value* down = values + 9 * t.lower[q];
             for (int r = 0; r < 3; ++r)
               for (int c = 0; c < 3; ++c) down[3 * c + r] += K[(3 * r + c) * Batch];
           }
@@ -118,5 +125,7 @@ COROTATE_CLONE_INLINE void add_batch_product_blocks(const ForceStiffnessBatch<N,
 void add_batch_blocks(const ForceStiffnessBatch<4, 16>& batch, int count, const int* ids, double* values);
 void add_batch_product_blocks(const ForceStiffnessBatch<4, 16>& batch, int count, const ProductBlockTargets<4>* targets,
                               double* values);
+void add_batch_product_blocks(const ForceStiffnessBatch<4, 16>& batch, int count, const ProductBlockTargets<4>* targets,
+                              float* values);
 
 }  // namespace corotate

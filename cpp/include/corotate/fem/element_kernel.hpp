@@ -104,14 +104,18 @@ struct ElementMatrixSink {
 // (structure of arrays, so that the kernel's loops over the lanes vectorise): the nodal
 // forces, the upper 3x3 blocks (a, b), a <= b, of the scaled Model stiffness in the order
 // (0,0), (0,1), ..., (0,N-1), (1,1), ..., each row-major (diagonal blocks exactly
-// symmetric), the energy and the volume ratio.
+// symmetric), the energy and the volume ratio. When the caller sets single, the blocks go
+// to K_single in float32 instead (for a system assembled in float32: converted in the
+// kernel's vector loop rather than entry by entry in the scatter).
 template <int N, int Batch>
 struct ForceStiffnessBatch {
   static constexpr int num_upper_blocks = N * (N + 1) / 2;
   alignas(64) double f[N][3][Batch];                  // f[a][i][b]: force on node a
   alignas(64) double K[num_upper_blocks][9][Batch];  // K[block][3 row + column][b]
+  alignas(64) float K_single[num_upper_blocks][9][Batch];
   double energy[Batch];
   double volume_ratio[Batch];
+  bool single = false;
 };
 
 // Kernel::symmetric_tangent where the kernel declares it, else true.

@@ -10,6 +10,8 @@
 
 namespace corotate {
 
+class SinglePrecisionSymmetric;
+
 class FixedDofs {
  public:
   FixedDofs() = default;
@@ -19,6 +21,8 @@ class FixedDofs {
   bool empty() const { return fixed_list_.empty(); }
   const std::vector<Index>& list() const { return fixed_list_; }
   void project(BlockSparseMatrix& A) const;
+  // The same on a float32 system in the pattern FixedDofs was made for (its stored blocks).
+  void project(SinglePrecisionSymmetric& A) const;
   void project(Eigen::Ref<Vec> b) const;  // b: one entry per DOF
   void project(Nodes& x) const { project(as_dofs(x)); }
 

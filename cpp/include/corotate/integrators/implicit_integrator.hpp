@@ -31,6 +31,8 @@
 // their force in f, their stiffness k I in K, so a grab of any stiffness is stable.
 #pragma once
 
+#include <cstdint>
+
 #include "corotate/integrators/integrator.hpp"
 
 namespace corotate {
@@ -45,6 +47,9 @@ class ImplicitIntegrator : public Integrator {
 
  protected:
   BlockSparseMatrix mass_;    // M in the model's pattern
+  // Changes with mass_ (unique across integrators): a float32 system keeps its image of
+  // s M under this number (SinglePrecisionSymmetric::start_assembly).
+  std::uint64_t mass_version_ = 0;
   BlockSparseMatrix system_;  // A, reassembled every step
   Nodes force_, y_;           // forces; a second point (linearisation point, Newton trial)
   Vec rhs_, dv_, work_, saved_dv_;

@@ -29,6 +29,7 @@
 namespace corotate {
 
 class ExplicitTraits;
+class SinglePrecisionSymmetric;
 
 enum class StiffnessKind { None, Model, Tangent, Geometric };
 
@@ -59,7 +60,11 @@ struct Results {
   double energy = 0;                       // set (not added) when requested
   Nodes* forces = nullptr;                 // 3 x n, += internal forces
   BlockSparseMatrix* stiffness = nullptr;  // in pattern(), += scale * K
-  Index inverted = 0;                      // set when count_inverted was requested
+  // Instead of stiffness, where the model can (assembles_single_precision): the Model
+  // stiffness added straight into this float32 system in its own layout and scale (built
+  // for pattern()), the blocks its product reads only. The implicit step's fast path.
+  SinglePrecisionSymmetric* single_stiffness = nullptr;
+  Index inverted = 0;  // set when count_inverted was requested
 };
 
 class ForceModel {
@@ -79,6 +84,8 @@ class ForceModel {
   virtual bool is_linear() const = 0;
   // False when the Tangent stiffness is not symmetric (solve it with a non-symmetric solver).
   virtual bool symmetric_tangent() const { return true; }
+  // Whether evaluate() can add the Model stiffness, with forces, to Results::single_stiffness.
+  virtual bool assembles_single_precision() const { return false; }
 
   // Energy, forces and/or stiffness at positions x (3 x n), as `what` asks. Throws
   // InvalidInput for a request the model cannot answer (Geometric on a model without a

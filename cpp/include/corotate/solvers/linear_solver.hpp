@@ -6,6 +6,8 @@
 
 namespace corotate {
 
+class SinglePrecisionSymmetric;
+
 struct SolveStats {
   int iterations = 0;              // CG iterations (0 for a direct solve)
   double relative_residual = 0.0;  // |b - A x| / |b| at exit
@@ -44,6 +46,15 @@ class LinearSolver {
   // (BlockSparseMatrix::is_product_block): if not, the step may skip assembling them
   // (Request::lower_blocks).
   virtual bool needs_lower_blocks() const { return true; }
+  // A float32 system that the next solve can take in place of a double one, or nullptr:
+  // the implicit step then assembles straight into it (forces and stiffness in one sweep,
+  // ForceModel::assembles_single_precision; the mass and the constraints added as for A)
+  // and calls solve_single_precision. Valid until the next call to this solver.
+  virtual SinglePrecisionSymmetric* single_precision_target() { return nullptr; }
+  // solve() with A the system assembled into single_precision_target().
+  virtual SolveStats solve_single_precision(const Vec& /*b*/, Vec& /*x*/) {
+    throw InvalidInput("this solver takes no float32 system");
+  }
 };
 
 }  // namespace corotate

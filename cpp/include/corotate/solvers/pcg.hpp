@@ -43,6 +43,12 @@ class PCG final : public LinearSolver {
   void set_geometry(const Nodes& rest) override { preconditioner_->set_geometry(rest); }
   void set_positions(const Nodes& x) override { preconditioner_->set_positions(x); }
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
+  // At tolerances where CG multiplies in float32 anyway, the preconditioner's float32 copy,
+  // once it has one (the two-level preconditioner after its first system).
+  SinglePrecisionSymmetric* single_precision_target() override {
+    return settings_.tolerance >= kSinglePrecisionProductTolerance ? preconditioner_->assembly_target() : nullptr;
+  }
+  SolveStats solve_single_precision(const Vec& b, Vec& x) override;
   // CG reads A through multiply_symmetric only: the preconditioner decides.
   bool needs_lower_blocks() const override { return preconditioner_->needs_lower_blocks(); }
 
@@ -50,8 +56,11 @@ class PCG final : public LinearSolver {
   PCGSettings settings_;
   std::unique_ptr<Preconditioner> preconditioner_;
   void precondition();  // z = preconditioned r, with the fixed DOFs decoupled
+  // The iterations once the preconditioner is computed, multiplying with single if given,
+  // else with A.
+  SolveStats iterate(const BlockSparseMatrix* A, const SinglePrecisionSymmetric* single, const Vec& b, Vec& x);
   // out = A v, in double or with the preconditioner's float32 copy (single)
-  void multiply(const BlockSparseMatrix& A, const SinglePrecisionSymmetric* single, const Vec& v, Vec& out) const;
+  void multiply(const BlockSparseMatrix* A, const SinglePrecisionSymmetric* single, const Vec& v, Vec& out) const;
   std::vector<Index> fixed_dofs_;  // ascending
   Vec fixed_residual_;
   Vec r_, z_, p_, q_;  // work vectors, sized on first use

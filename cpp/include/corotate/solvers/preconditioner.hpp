@@ -34,6 +34,11 @@ class Preconditioner {
   // The float32 copy of the matrix that compute() made for its own products, if it keeps one
   // (valid until the next compute()): CG may multiply with it too (pcg.hpp).
   virtual const SinglePrecisionSymmetric* single_precision_matrix() const { return nullptr; }
+  // Where the next system may be assembled in float32 instead of being passed to compute()
+  // (LinearSolver::single_precision_target): that copy, once it has a layout; else nullptr.
+  virtual SinglePrecisionSymmetric* assembly_target() { return nullptr; }
+  // compute() for the system assembled into assembly_target().
+  virtual void compute_assembled() { throw InvalidInput("this preconditioner takes no float32 system"); }
 };
 
 // No preconditioning (plain CG): z = r.
@@ -60,11 +65,13 @@ class JacobiPreconditioner final : public Preconditioner {
 class BlockJacobiPreconditioner final : public Preconditioner {
  public:
   void compute(const BlockSparseMatrix& A) override;
+  void compute(const SinglePrecisionSymmetric& A);  // from a float32 system's diagonal blocks
   void apply(const Vec& r, Vec& z) override;
   const Mat3& inverse_block(Index node) const { return inverse_blocks_[node]; }
   bool needs_lower_blocks() const override { return false; }  // the diagonal blocks only
 
  private:
+  void invert(Index node, const Mat3& block);  // throws NotPositiveDefinite when singular
   std::vector<Mat3> inverse_blocks_;
 };
 
@@ -142,6 +149,8 @@ class AutoPreconditioner final : public Preconditioner {
   const SinglePrecisionSymmetric* single_precision_matrix() const override {
     return chosen_ ? chosen_->single_precision_matrix() : nullptr;
   }
+  SinglePrecisionSymmetric* assembly_target() override { return chosen_ ? chosen_->assembly_target() : nullptr; }
+  void compute_assembled() override { chosen_->compute_assembled(); }
   // ReferenceFactor or TwoLevel once a system was seen; Auto before.
   PreconditionerKind chosen() const { return kind_; }
 

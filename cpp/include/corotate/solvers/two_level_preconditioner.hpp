@@ -54,6 +54,10 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // block diagonal and the float32 copy read the product blocks.
   bool needs_lower_blocks() const override { return !ready_; }
   const SinglePrecisionSymmetric* single_precision_matrix() const override { return &A_single_; }
+  // Once built (the first system comes in double: the hierarchy reads all of it), later
+  // systems may be assembled straight into the float32 copy.
+  SinglePrecisionSymmetric* assembly_target() override { return ready_ ? &A_single_ : nullptr; }
+  void compute_assembled() override;
   Index coarse_size() const { return coarse_.rows(); }
   // Each aggregate's rotation from the configuration the hierarchy was built at (identities
   // until positions arrive after the build).
@@ -62,6 +66,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
  private:
   using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
   void setup(const BlockSparseMatrix& A0);
+  void turn(Index num_nodes);  // the coarse level to the pending positions
 
   Nodes rest_;
   Nodes positions_;             // the latest set_positions (empty: none given)

@@ -17,6 +17,7 @@
 // matrix whose entries are all huge or all tiny; the scaling is exact.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "corotate/sparse/block_sparse_matrix.hpp"
@@ -39,9 +40,37 @@ class SinglePrecisionSymmetric {
   Index num_nodes() const { return static_cast<Index>(row_first_.size()) - 1; }
   Index num_blocks() const { return static_cast<Index>(columns_.size()); }
 
+  // --- Assembling straight into the copy ---
+  // The implicit step may assemble its next system here instead of in a double matrix that
+  // is then copied (LinearSolver::single_precision_target): the mass copy, the double
+  // scatter and the conversion pass are a tenth of a step. The copy keeps the layout and
+  // the power-of-two scale of its last assign(); entries are accumulated in float32 (a few
+  // roundings of 6e-8 per entry, still far below the loose tolerances this path is for).
+  bool has_layout() const { return pattern_blocks_ >= 0; }
+  // Identifies the layout (changes whenever it is rebuilt, and differs between objects):
+  // callers that keep block positions (block_position) recompute them when it changes.
+  std::uint64_t layout_id() const { return layout_id_; }
+  // The stored block that holds block k of the matrix the layout was built from (same
+  // pattern), or -1 where the product does not read it (is_product_block false).
+  int block_position(int k) const { return block_position_[k]; }
+  Index num_pattern_blocks() const { return static_cast<Index>(block_position_.size()); }
+  // The values, 9 per stored block (row-major), each the true value divided by unscale().
+  float* values() { return values_.data(); }
+  // Begins an assembly: the values become s M (M in the pattern of the layout, e.g. the
+  // mass matrix). The float image of s M is kept and made again only when s, the scale or
+  // the caller's version number of M change, so a step starts with a copy of 4 bytes per
+  // value. Throws InvalidInput when M's pattern is not the layout's.
+  void start_assembly(const BlockSparseMatrix& M, double s, std::uint64_t version);
+  // Adds value * I to node i's diagonal block.
+  void add_to_diagonal(Index i, double value);
+  // Node i's diagonal block in true units (double).
+  Mat3 diagonal_block(Index i) const;
+
  private:
   void build_layout(const BlockSparseMatrix& A);
   void kernel(const double* x4, double* y4) const;
+  // Converts A's product blocks, times scale, into out in the stored order.
+  void convert_from(const BlockSparseMatrix& A, double scale, float* out) const;
 
   // The pattern the layout was built for (a different matrix of the same pattern reuses it).
   std::vector<int> pattern_rows_;
@@ -55,6 +84,12 @@ class SinglePrecisionSymmetric {
   std::vector<int> columns_;  // column of each stored block
   std::vector<float> values_;  // 9 per stored block, row-major, scaled; 4 floats of padding
   double unscale_ = 1.0;       // the power of two the values were divided by
+  std::vector<int> block_position_;  // per block of the pattern: its stored block, or -1
+  std::uint64_t layout_id_ = 0;
+  // start_assembly's image of s M and what it was made from.
+  std::vector<float> start_values_;
+  double start_s_ = 0.0, start_unscale_ = 0.0;
+  std::uint64_t start_version_ = 0, start_layout_ = 0;
 };
 
 }  // namespace corotate
