@@ -127,8 +127,8 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   if (!coarse_factor_.factorize(coarse_))
     throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
   turned_.resize(dofs);
-  z4_.setZero(4 * n);
-  y4_.setZero(4 * n);
+  z4_.assign(4 * n, 0.0f);
+  y4_.assign(4 * n, 0.0f);
   coarse_rhs_.resize(coarse_dofs);
   coarse_solution_.resize(coarse_dofs);
   ready_ = true;
@@ -170,8 +170,8 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   const std::vector<int>& aggregate = rotations_.aggregate_of_node();
   const double w = smoothing_weight_, unscale = A_single_.unscale();
   z.resize(3 * n);
-  double* z4 = z4_.data();
-  const double* y4 = y4_.data();
+  float* z4 = z4_.data();
+  const float* y4 = y4_.data();
   // Node i's residual r - A z from the last product, and z_i written to both layouts.
   auto residual = [&](Index i) {
     return Vec3(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
@@ -179,7 +179,7 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   };
   auto set_z = [&](Index i, const Vec3& zi) {
     z.segment<3>(3 * i) = zi;
-    z4[4 * i] = zi[0], z4[4 * i + 1] = zi[1], z4[4 * i + 2] = zi[2];
+    z4[4 * i] = float(zi[0]), z4[4 * i + 1] = float(zi[1]), z4[4 * i + 2] = float(zi[2]);
   };
   // z = w D^-1 r.
   COROTATE_PARALLEL_FOR(n >= 512)

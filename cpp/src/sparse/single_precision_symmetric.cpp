@@ -108,7 +108,7 @@ Mat3 SinglePrecisionSymmetric::diagonal_block(Index i) const {
 
 // BlockSparseMatrix::multiply_symmetric's rows over the float copy: the blocks across chunks
 // below the diagonal come first, so they end where the diagonal is.
-COROTATE_CPU_CLONES void SinglePrecisionSymmetric::kernel(const double* xp, double* yp) const {
+COROTATE_CPU_CLONES void SinglePrecisionSymmetric::kernel(const float* xp, float* yp) const {
   const SymmetricRows rows{row_first_.data(), diagonal_.data(), diagonal_.data(), chunk_end_.data()};
   const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
   COROTATE_PARALLEL_FOR(chunks > 1)
@@ -117,7 +117,7 @@ COROTATE_CPU_CLONES void SinglePrecisionSymmetric::kernel(const double* xp, doub
 }
 
 void SinglePrecisionSymmetric::multiply(const Vec& x, Vec& y) const {
-  padded_product(x, y, [this](const double* x4, double* y4) { kernel(x4, y4); }, unscale_);
+  padded_product<float>(x, y, [this](const float* x4, float* y4) { kernel(x4, y4); }, unscale_);
 }
 
 }  // namespace corotate

@@ -85,7 +85,9 @@ class TwoLevelPreconditioner final : public Preconditioner {
   SparseCholesky coarse_factor_{SparseCholesky::have_cholmod() ? SparseCholesky::Backend::Cholmod
                                                                : SparseCholesky::Backend::Eigen};
   Vec coarse_rhs_, coarse_solution_, turned_;
-  Vec z4_, y4_;  // the cycle's iterate and its product, four entries per node
+  // The cycle's iterate and its product, four entries per node, in float32 for the float32
+  // product (the iterate itself is kept in double in z).
+  std::vector<float> z4_, y4_;
   double smoothing_weight_ = 0.0;  // 4 / (3 lambda_max(D^-1 A0)): the smoother contracts
 };
 

@@ -30,7 +30,33 @@ COROTATE_CLONE_INLINE v4d load4(const float* p) {
   std::memcpy(&v, p, sizeof v);
   return __builtin_convertvector(v, v4d);
 }
-COROTATE_CLONE_INLINE double sum3(v4d v) { return v[0] + v[1] + v[2]; }
+// Four floats as floats: the all-float32 product (values, x and y in float32).
+COROTATE_CLONE_INLINE v4f load4f(const float* p) {
+  v4f v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+// The four-wide vector of the product's sums and its loads: double sums (of double or float
+// values, x and y in double), or float sums (everything float32).
+template <class Sum>
+struct Lanes4;
+template <>
+struct Lanes4<double> {
+  using type = v4d;
+  template <class Value>
+  static COROTATE_CLONE_INLINE v4d load(const Value* p) {
+    return load4(p);
+  }
+};
+template <>
+struct Lanes4<float> {
+  using type = v4f;
+  static COROTATE_CLONE_INLINE v4f load(const float* p) { return load4f(p); }
+};
+template <class V>
+COROTATE_CLONE_INLINE auto sum3(V v) {
+  return v[0] + v[1] + v[2];
+}
 
 // Where row i's blocks lie for symmetric_chunk, in the order they are read: [first[i],
 // lower_end[i]) have columns in earlier row chunks, diagonal[i] is the diagonal block,
@@ -45,53 +71,55 @@ struct SymmetricRows {
 
 // y = A x on rows [first, last), one row chunk, for a symmetric A given by the blocks
 // multiply_symmetric reads (9 values each, row-major, from values; Value double or float,
-// widened to double), x and y four per node. Within a chunk each upper pair is read once and
-// used twice; a pair across chunks is read from both sides, so chunks write disjoint rows and
-// run on separate threads, and the sums do not depend on the thread count. (The callers keep
-// the parallel loop over chunks themselves: GCC outlines an OpenMP loop before inlining, so
-// one inside this helper would not be compiled for the caller's CPU clone.)
-template <class Value>
+// widened to double), x and y four per node; Sum float: values, x, y and the sums in float32. Within a chunk each upper
+// pair is read once and used twice; a pair across chunks is read from both sides, so chunks write disjoint rows and run
+// on separate threads, and the sums do not depend on the thread count. (The callers keep the parallel loop over chunks
+// themselves: GCC outlines an OpenMP loop before inlining, so one inside this helper would not be compiled for the
+// caller's CPU clone.)
+template <class Value, class Sum = double>
 COROTATE_CLONE_INLINE void symmetric_chunk(const Value* values, const int* columns, const SymmetricRows& rows,
-                                           int first, int last, const double* xp, double* yp) {
+                                           int first, int last, const Sum* xp, Sum* yp) {
+  using L = Lanes4<Sum>;
+  using V = typename L::type;
   // y_i of the chunk collects B^T x_i from the chunk's earlier rows, then its own row.
-  std::fill(yp + 4 * first, yp + 4 * last, 0.0);
+  std::fill(yp + 4 * first, yp + 4 * last, Sum(0));
   for (int i = first; i < last; ++i) {
-    const v4d xi = load4(xp + 4 * i);
-    const v4d x0 = {xi[0], xi[0], xi[0], xi[0]}, x1 = {xi[1], xi[1], xi[1], xi[1]}, x2 = {xi[2], xi[2], xi[2], xi[2]};
-    v4d a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
+    const V xi = L::load(xp + 4 * i);
+    const V x0 = {xi[0], xi[0], xi[0], xi[0]}, x1 = {xi[1], xi[1], xi[1], xi[1]}, x2 = {xi[2], xi[2], xi[2], xi[2]};
+    V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
     const int diagonal = rows.diagonal[i], chunk_end = rows.chunk_end[i], row_end = rows.first[i + 1];
     for (int k = rows.first[i]; k < rows.lower_end[i]; ++k) {  // pairs with earlier chunks
       const Value* b = values + 9 * k;
-      const v4d xj = load4(xp + 4 * columns[k]);
-      a0 += load4(b) * xj;
-      a1 += load4(b + 3) * xj;
-      a2 += load4(b + 6) * xj;
+      const V xj = L::load(xp + 4 * columns[k]);
+      a0 += L::load(b) * xj;
+      a1 += L::load(b + 3) * xj;
+      a2 += L::load(b + 6) * xj;
     }
     {
       const Value* b = values + 9 * diagonal;
-      a0 += load4(b) * xi;
-      a1 += load4(b + 3) * xi;
-      const v4d last_row = {double(b[6]), double(b[7]), double(b[8]), 0.0};  // the values may end here
+      a0 += L::load(b) * xi;
+      a1 += L::load(b + 3) * xi;
+      const V last_row = {Sum(b[6]), Sum(b[7]), Sum(b[8]), Sum(0)};  // the values may end here
       a2 += last_row * xi;
     }
     for (int k = diagonal + 1; k < chunk_end; ++k) {  // in-chunk pairs: both products
       const Value* b = values + 9 * k;
       const int j = columns[k];
-      const v4d xj = load4(xp + 4 * j);
-      const v4d b0 = load4(b), b1 = load4(b + 3), b2 = load4(b + 6);
+      const V xj = L::load(xp + 4 * j);
+      const V b0 = L::load(b), b1 = L::load(b + 3), b2 = L::load(b + 6);
       a0 += b0 * xj;
       a1 += b1 * xj;
       a2 += b2 * xj;
-      v4d yj = load4(yp + 4 * j);
+      V yj = L::load(yp + 4 * j);
       yj += b0 * x0 + b1 * x1 + b2 * x2;
       std::memcpy(yp + 4 * j, &yj, sizeof yj);
     }
     for (int k = chunk_end; k < row_end; ++k) {  // pairs with later chunks
       const Value* b = values + 9 * k;
-      const v4d xj = load4(xp + 4 * columns[k]);
-      a0 += load4(b) * xj;
-      a1 += load4(b + 3) * xj;
-      a2 += load4(b + 6) * xj;
+      const V xj = L::load(xp + 4 * columns[k]);
+      a0 += L::load(b) * xj;
+      a1 += L::load(b + 3) * xj;
+      a2 += L::load(b + 6) * xj;
     }
     yp[4 * i] += sum3(a0);
     yp[4 * i + 1] += sum3(a1);
@@ -105,24 +133,24 @@ inline constexpr Index kParallelCopyNodes = 8192;
 // y = scale * (kernel applied to x): x is copied to four entries per node (the fourth zero),
 // kernel(x4, y4) fills y4 likewise, and its first three per node, times scale, go to y. Work
 // buffers per thread and per kernel type, allocated once.
-template <class Kernel>
+template <class Pad = double, class Kernel>
 void padded_product(const Vec& x, Vec& y, Kernel&& kernel, double scale = 1.0) {
   const Index n = x.size() / 3;
-  thread_local std::vector<double> xpad, ypad;
+  thread_local std::vector<Pad> xpad, ypad;
   xpad.resize(4 * n);
   ypad.resize(4 * n);
   // The copies are a third of a product's memory traffic at 122,880 tets: threaded with it.
-  double* xp = xpad.data();
+  Pad* xp = xpad.data();
   const double* xs = x.data();
   COROTATE_PARALLEL_FOR(n >= kParallelCopyNodes)
   for (Index i = 0; i < n; ++i) {
-    xp[4 * i] = xs[3 * i];
-    xp[4 * i + 1] = xs[3 * i + 1];
-    xp[4 * i + 2] = xs[3 * i + 2];
-    xp[4 * i + 3] = 0.0;
+    xp[4 * i] = Pad(xs[3 * i]);
+    xp[4 * i + 1] = Pad(xs[3 * i + 1]);
+    xp[4 * i + 2] = Pad(xs[3 * i + 2]);
+    xp[4 * i + 3] = Pad(0);
   }
   kernel(xpad.data(), ypad.data());
-  const double* yp = ypad.data();
+  const Pad* yp = ypad.data();
   double* ys = y.data();
   COROTATE_PARALLEL_FOR(n >= kParallelCopyNodes)
   for (Index i = 0; i < n; ++i) {
