@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "corotate/cpu_clones.hpp"
 #include "corotate/parallel.hpp"
 
 namespace corotate {
@@ -54,7 +55,7 @@ BlockProlongator::BlockProlongator(const ScalarMatrix& P, const std::vector<int>
   padded_.setZero(6 * m);
 }
 
-void BlockProlongator::prolong(const Vec& coarse, Vec& fine, bool add) {
+COROTATE_CPU_CLONES void BlockProlongator::prolong(const Vec& coarse, Vec& fine, bool add) {
   const Index n = num_nodes(), m = num_aggregates();
   for (Index a = 0; a < m; ++a)
     for (int q = 0; q < 6; ++q)
@@ -81,7 +82,7 @@ void BlockProlongator::prolong(const Vec& coarse, Vec& fine, bool add) {
   }
 }
 
-void BlockProlongator::restrict_to(const Vec& fine, Vec& coarse) {
+COROTATE_CPU_CLONES void BlockProlongator::restrict_to(const Vec& fine, Vec& coarse) {
   const Index n = num_nodes(), m = num_aggregates();
   const double* r = fine.data();
   const float* val = values_.data();
