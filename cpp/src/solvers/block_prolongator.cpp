@@ -59,26 +59,26 @@ COROTATE_CPU_CLONES void BlockProlongator::prolong(const Vec& coarse, Vec& fine,
   const Index n = num_nodes(), m = num_aggregates();
   for (Index a = 0; a < m; ++a)
     for (int q = 0; q < 6; ++q)
-      padded_[6 * a + q] = q < coarse_start_[a + 1] - coarse_start_[a] ? coarse[coarse_start_[a] + q] : 0.0;
+      padded_[6 * a + q] = q < coarse_start_[a + 1] - coarse_start_[a] ? float(coarse[coarse_start_[a] + q]) : 0.0f;
   fine.resize(3 * n);
-  const double* c = padded_.data();
+  const float* c = padded_.data();
   const float* val = values_.data();
   double* y = fine.data();
   COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) {
-    double y0 = add ? y[3 * i] : 0.0, y1 = add ? y[3 * i + 1] : 0.0, y2 = add ? y[3 * i + 2] : 0.0;
+    float y0 = 0, y1 = 0, y2 = 0;
     for (int k = node_start_[i]; k < node_start_[i + 1]; ++k) {
       const float* b = val + 18 * k;
-      const double* ca = c + 6 * block_aggregate_[k];
+      const float* ca = c + 6 * block_aggregate_[k];
       for (int q = 0; q < 6; ++q) {
         y0 += b[q] * ca[q];
         y1 += b[6 + q] * ca[q];
         y2 += b[12 + q] * ca[q];
       }
     }
-    y[3 * i] = y0;
-    y[3 * i + 1] = y1;
-    y[3 * i + 2] = y2;
+    y[3 * i] = (add ? y[3 * i] : 0.0) + y0;
+    y[3 * i + 1] = (add ? y[3 * i + 1] : 0.0) + y1;
+    y[3 * i + 2] = (add ? y[3 * i + 2] : 0.0) + y2;
   }
 }
 
@@ -86,28 +86,29 @@ COROTATE_CPU_CLONES void BlockProlongator::restrict_to(const Vec& fine, Vec& coa
   const Index n = num_nodes(), m = num_aggregates();
   const double* r = fine.data();
   const float* val = values_.data();
-  double* c = padded_.data();
+  float* c = padded_.data();
   if (num_threads() == 1 || m < 64) {
     // Streaming the blocks in storage order and scattering into the aggregates reads them
     // faster than the gather; each aggregate still sums its blocks in node order, the same
     // sum as the gather's, so the bits do not depend on the thread count.
     padded_.setZero();
     for (Index i = 0; i < n; ++i) {
-      const double* ri = r + 3 * i;
+      const float r0 = float(r[3 * i]), r1 = float(r[3 * i + 1]), r2 = float(r[3 * i + 2]);
       for (int k = node_start_[i]; k < node_start_[i + 1]; ++k) {
         const float* b = val + 18 * k;
-        double* ca = c + 6 * block_aggregate_[k];
-        for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
+        float* ca = c + 6 * block_aggregate_[k];
+        for (int q = 0; q < 6; ++q) ca[q] += b[q] * r0 + b[6 + q] * r1 + b[12 + q] * r2;
       }
     }
   } else {
     COROTATE_PARALLEL_FOR(true)
     for (Index a = 0; a < m; ++a) {
-      double ca[6] = {0, 0, 0, 0, 0, 0};
+      float ca[6] = {0, 0, 0, 0, 0, 0};
       for (int s = aggregate_start_[a]; s < aggregate_start_[a + 1]; ++s) {
         const float* b = val + 18 * aggregate_block_[s];
         const double* ri = r + 3 * aggregate_node_[s];
-        for (int q = 0; q < 6; ++q) ca[q] += b[q] * ri[0] + b[6 + q] * ri[1] + b[12 + q] * ri[2];
+        const float r0 = float(ri[0]), r1 = float(ri[1]), r2 = float(ri[2]);
+        for (int q = 0; q < 6; ++q) ca[q] += b[q] * r0 + b[6 + q] * r1 + b[12 + q] * r2;
       }
       for (int q = 0; q < 6; ++q) c[6 * a + q] = ca[q];
     }
