@@ -104,23 +104,33 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
   }
 
   // Blocks (i, j), i <= j: with u = a_i a_j^T, lambda V u + mu V u^T + mu V (a_i . a_j) I.
-  // Diagonal blocks come out exactly symmetric (u is).
-  auto blocks = [&](auto& K) {
+  // Diagonal blocks come out exactly symmetric (u is). For a float32 system they are computed
+  // in float32 from a rounded to float32 (twice the lanes per instruction; the blocks are
+  // rounded to float32 anyway, and the extra rounding of a is of the same size).
+  auto blocks = [&](const auto& g, auto& K) {
     using Value = std::remove_reference_t<decltype(K[0][0][0])>;
+    Value vl[B], vm[B];
+    for (int b = 0; b < B; ++b) vl[b] = Value(scale * volume[b] * lambda), vm[b] = Value(scale * volume[b] * mu);
     int p = 0;
     for (int i = 0; i < 4; ++i)
       for (int j = i; j < 4; ++j, ++p)
         for (int b = 0; b < B; ++b) {
-          const double vl = scale * volume[b] * lambda, vm = scale * volume[b] * mu;
-          const double d = vm * (a[i][0][b] * a[j][0][b] + a[i][1][b] * a[j][1][b] + a[i][2][b] * a[j][2][b]);
+          const Value d = vm[b] * (g[i][0][b] * g[j][0][b] + g[i][1][b] * g[j][1][b] + g[i][2][b] * g[j][2][b]);
           for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
               K[p][3 * r + c][b] =
-                  Value(vl * (a[i][r][b] * a[j][c][b]) + vm * (a[j][r][b] * a[i][c][b]) + (r == c ? d : 0.0));
+                  vl[b] * (g[i][r][b] * g[j][c][b]) + vm[b] * (g[j][r][b] * g[i][c][b]) + (r == c ? d : Value(0));
         }
   };
-  if (out.single) blocks(out.K_single);
-  else blocks(out.K);
+  if (out.single) {
+    alignas(64) float a_single[4][3][B];
+    for (int i = 0; i < 4; ++i)
+      for (int r = 0; r < 3; ++r)
+        for (int b = 0; b < B; ++b) a_single[i][r][b] = float(a[i][r][b]);
+    blocks(a_single, out.K_single);
+  } else {
+    blocks(a, out.K);
+  }
 }
 
 }  // namespace corotate
