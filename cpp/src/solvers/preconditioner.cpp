@@ -41,11 +41,17 @@ void BlockJacobiPreconditioner::apply(const Vec& r, Vec& z) {
   for (Index i = 0; i < n; ++i) z.segment<3>(3 * i).noalias() = inverse_blocks_[i] * r.segment<3>(3 * i);
 }
 
-void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
-  if (positions_.cols() != 0 && positions_.cols() != A.num_nodes())
+void ReferenceFactorPreconditioner::turn(Index num_nodes, bool rebuilding) {
+  if (positions_.cols() != 0 && positions_.cols() != num_nodes)
     throw InvalidInput("reference_factor preconditioner: positions of " + std::to_string(positions_.cols()) +
-                       " nodes for a " + std::to_string(A.num_nodes()) + "-node system");
+                       " nodes for a " + std::to_string(num_nodes) + "-node system");
+  if (!rebuilding && positions_pending_ && !rotations_.empty()) rotations_.update(positions_);
+  positions_pending_ = false;
+}
+
+void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
   if (factor_.empty() || refresh_) {
+    turn(A.num_nodes(), true);  // (the rotations are built afresh below)
     refresh_ = false;
     factor_ = BlockCholesky();
     factor_.factorize(A);  // throws NotPositiveDefinite for an indefinite matrix
@@ -53,10 +59,15 @@ void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
     // Built at the positions A was assembled at: rotations are measured from there.
     if (positions_.cols() != 0) rotations_.build(A, positions_);
     turned_.resize(A.num_dofs());
-  } else if (positions_pending_ && !rotations_.empty()) {
-    rotations_.update(positions_);
+  } else {
+    turn(A.num_nodes(), false);
   }
-  positions_pending_ = false;
+  A_single_.assign(A);
+}
+
+void ReferenceFactorPreconditioner::compute_assembled() {
+  if (factor_.empty() || refresh_) throw InvalidInput("reference_factor preconditioner: a float32 system to factorize");
+  turn(A_single_.num_nodes(), false);
 }
 
 void ReferenceFactorPreconditioner::apply(const Vec& r, Vec& z) {

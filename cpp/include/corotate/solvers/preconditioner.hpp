@@ -7,6 +7,7 @@
 
 #include "corotate/solvers/aggregate_rotations.hpp"
 #include "corotate/solvers/block_cholesky.hpp"
+#include "corotate/sparse/single_precision_symmetric.hpp"
 
 namespace corotate {
 
@@ -102,6 +103,15 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   void solved(bool converged) override { refresh_ = refresh_ || !converged; }
   // Only to factorize (the first system, or after a capped solve).
   bool needs_lower_blocks() const override { return factor_.empty() || refresh_; }
+  // A float32 copy of each system for CG's products, as the two-level preconditioner keeps;
+  // between factorizations the step may assemble straight into it.
+  const SinglePrecisionSymmetric* single_precision_matrix() const override {
+    return A_single_.has_layout() ? &A_single_ : nullptr;
+  }
+  SinglePrecisionSymmetric* assembly_target() override {
+    return !factor_.empty() && !refresh_ && A_single_.has_layout() ? &A_single_ : nullptr;
+  }
+  void compute_assembled() override;
   // Factorizations so far (the first and every refresh).
   int factorizations() const { return factorizations_; }
 
@@ -113,6 +123,9 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   Nodes positions_;
   bool positions_pending_ = false;
   Vec turned_;
+  SinglePrecisionSymmetric A_single_;
+  // Checks the pending positions and turns the rotations to them (unless rebuilding).
+  void turn(Index num_nodes, bool rebuilding);
 };
 
 enum class PreconditionerKind { None, Jacobi, BlockJacobi, ReferenceFactor, TwoLevel, Auto };
