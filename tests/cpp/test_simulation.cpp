@@ -27,26 +27,6 @@ class FlakySolver final : public LinearSolver {
   PCG inner_;
 };
 
-// Solves to round-off and records the warm start it was given and its answer; reports a
-// capped solve (not converged) while `capped` is set.
-class RecordingSolver final : public LinearSolver {
- public:
-  std::vector<Vec> starts, answers;
-  bool capped = false;
-  void reset() override { inner_.reset(); }
-  void set_geometry(const Nodes& rest) override { inner_.set_geometry(rest); }
-  SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override {
-    starts.push_back(x);
-    SolveStats stats = inner_.solve(A, b, x);
-    answers.push_back(x);
-    stats.converged = stats.converged && !capped;
-    return stats;
-  }
-
- private:
-  PCG inner_{PCGSettings{1000, 1e-13, true, PreconditionerKind::BlockJacobi}};
-};
-
 std::unique_ptr<Simulation> beam(IntegratorKind kind, std::unique_ptr<LinearSolver> solver = nullptr) {
   const auto mesh = fixtures::tet_beam(4, 1, 1);
   IntegratorSettings settings;
@@ -97,30 +77,6 @@ TEST(a_failed_step_restores_everything_including_the_warm_start) {
   b->step(1);
   CHECK(a->positions() == b->positions());
   CHECK(a->velocities() == b->velocities());
-}
-
-TEST(the_warm_start_is_extrapolated_only_after_two_converged_solves) {
-  auto recording = std::make_unique<RecordingSolver>();
-  RecordingSolver& r = *recording;
-  auto sim = beam(IntegratorKind::Linearized, std::move(recording));
-  sim->step(3);
-  // The first solve starts from zero, the second from the first answer (one converged solve
-  // is no trend), the third half a step beyond the second along their change.
-  CHECK(r.starts[0].isZero(0.0));
-  CHECK(r.starts[1] == r.answers[0]);
-  const Vec extrapolated = r.answers[1] + 0.5 * (r.answers[1] - r.answers[0]);
-  CHECK((r.starts[2] - extrapolated).norm() <= 1e-14 * extrapolated.norm());
-  CHECK((r.answers[1] - r.answers[0]).norm() > 1e-3 * r.answers[1].norm());  // a real trend
-  // After a capped solve the next starts from its answer as it is, and so does the one after
-  // (two converged solves are needed again).
-  r.capped = true;
-  sim->step(1);
-  r.capped = false;
-  sim->step(3);
-  CHECK(r.starts[4] == r.answers[3]);
-  CHECK(r.starts[5] == r.answers[4]);
-  const Vec again = r.answers[5] + 0.5 * (r.answers[5] - r.answers[4]);
-  CHECK((r.starts[6] - again).norm() <= 1e-14 * again.norm());
 }
 
 TEST(settings_are_validated_before_anything_changes) {
