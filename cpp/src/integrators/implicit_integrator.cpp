@@ -16,9 +16,6 @@ void ImplicitIntegrator::attach(ForceModel& model) {
   dv_.setZero(3 * n);
   work_.setZero(3 * n);
   saved_dv_.setZero(3 * n);
-  dv_before_.setZero(3 * n);
-  saved_dv_before_.setZero(3 * n);
-  converged_ = saved_converged_ = 0;
 }
 
 }  // namespace corotate

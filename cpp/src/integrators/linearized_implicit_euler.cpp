@@ -1,5 +1,4 @@
 // The linearised implicit Euler step (see implicit_integrator.hpp): one linear solve.
-#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -9,8 +8,6 @@
 namespace corotate {
 
 namespace {
-constexpr double kWarmStartExtrapolation = 0.5;
-
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -72,17 +69,9 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     in.fixed.project(rhs_);
     stats.assembly_ms = ms_since(t_start);
 
-    // dv_ still holds the previous step's answer: the warm start, moved on by half its last
-    // change when the last two solves converged (dv follows the motion smoothly). Fewer CG
-    // iterations per step: 4.05 -> 3.60 at 15,360 tets, 6.24 -> 5.47 at 122,880, 2.14 ->
-    // 1.85 on the Table 1 cage; a full step (t = 1) overshoots: 3.89 and 5.69. Not after
-    // solves that stopped at their cap: there the error they leave would be pushed on too
-    // (a capped Jacobi PCG then ran away at step 5 instead of 23). bench/README.md.
+    // dv_ still holds the previous step's answer: the warm start. A is assembled at x.
     const auto t_solve = clock::now();
     in.solver.set_positions(in.x);
-    work_ = dv_;
-    if (converged_ == 2) dv_ += kWarmStartExtrapolation * (dv_ - dv_before_);
-    dv_before_ = work_;
     try {
       stats.solve = single ? in.solver.solve_single_precision(rhs_, dv_) : in.solver.solve(system_, rhs_, dv_);
     } catch (const NotPositiveDefinite& e) {
@@ -95,7 +84,6 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
                                 "with Body(..., project_psd=True), which keeps the system positive definite");
     }
     in.fixed.project(dv_);
-    converged_ = stats.solve.converged ? std::min(converged_ + 1, 2) : 0;
     stats.solve_ms = ms_since(t_solve);
 
     as_dofs(v_new) = as_dofs(in.v) + dv_;

@@ -42,16 +42,8 @@ class ImplicitIntegrator : public Integrator {
   using Integrator::Integrator;
   void attach(ForceModel& model) override;
   const BlockSparseMatrix& mass() const override { return mass_; }
-  void save_state() override {
-    saved_dv_ = dv_;
-    saved_dv_before_ = dv_before_;
-    saved_converged_ = converged_;
-  }
-  void restore_state() override {
-    dv_ = saved_dv_;
-    dv_before_ = saved_dv_before_;
-    converged_ = saved_converged_;
-  }
+  void save_state() override { saved_dv_ = dv_; }
+  void restore_state() override { dv_ = saved_dv_; }
 
  protected:
   BlockSparseMatrix mass_;    // M in the model's pattern
@@ -61,11 +53,6 @@ class ImplicitIntegrator : public Integrator {
   BlockSparseMatrix system_;  // A, reassembled every step
   Nodes force_, y_;           // forces; a second point (linearisation point, Newton trial)
   Vec rhs_, dv_, work_, saved_dv_;
-  // The answer before dv_ and how many of the last solves (0, 1 or 2) reached their
-  // tolerance: the linearised step extrapolates its warm start from the last two answers
-  // when both did.
-  Vec dv_before_, saved_dv_before_;
-  int converged_ = 0, saved_converged_ = 0;
 };
 
 }  // namespace corotate
