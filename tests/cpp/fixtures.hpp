@@ -3,6 +3,7 @@
 #pragma once
 
 #include <random>
+#include <vector>
 
 #include "corotate/elements/element_matrices.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
@@ -65,6 +66,14 @@ inline Mesh tet_beam(int nx, int ny, int nz) {
           ++e;
         }
   return m;
+}
+
+// The nodes on the plane x = 0 (a beam's clamped end).
+inline std::vector<Index> nodes_at_x0(const Mesh& mesh) {
+  std::vector<Index> nodes;
+  for (Index i = 0; i < mesh.points.cols(); ++i)
+    if (mesh.points(0, i) == 0) nodes.push_back(i);
+  return nodes;
 }
 
 // A = M + dt^2 K of linear elasticity on a tet mesh, assembled block by block; dense copy too.

@@ -37,10 +37,7 @@ Nodes run_beam(int threads, const std::string& preconditioner, double* energy) {
   pcg.preconditioner = preconditioner_kind_from_name(preconditioner);
   Simulation sim(make_model("corotational", "tetra", mesh.points, mesh.cells, kMaterial), settings,
                  std::make_unique<PCG>(pcg));
-  std::vector<Index> left;
-  for (Index i = 0; i < mesh.points.cols(); ++i)
-    if (mesh.points(0, i) == 0) left.push_back(i);
-  sim.set_fixed_nodes(left);
+  sim.set_fixed_nodes(fixtures::nodes_at_x0(mesh));
   sim.set_gravity(Vec3(0, 0, -9.81));
   sim.step(20);
   *energy = sim.stats().last.start_energy;

@@ -34,10 +34,7 @@ std::unique_ptr<Simulation> beam(IntegratorKind kind, std::unique_ptr<LinearSolv
   settings.time_step = is_explicit(kind) ? 1e-3 : 1e-2;
   auto sim = std::make_unique<Simulation>(make_model("corotational", "tetra", mesh.points, mesh.cells, kMaterial),
                                           settings, std::move(solver));
-  std::vector<Index> left;
-  for (Index i = 0; i < mesh.points.cols(); ++i)
-    if (mesh.points(0, i) == 0) left.push_back(i);
-  sim->set_fixed_nodes(left);
+  sim->set_fixed_nodes(fixtures::nodes_at_x0(mesh));
   sim->set_gravity(Vec3(0, 0, -9.81));
   return sim;
 }

@@ -4,6 +4,7 @@
 // that the double path assembles and then rounds to float, to float32's rounding, in every
 // stored block, including the blocks across row chunks that are stored twice.
 #include <cmath>
+#include <functional>
 
 #include "corotate/fem/attachments.hpp"
 #include "corotate/fem/fixed_dofs.hpp"
@@ -30,10 +31,10 @@ struct StepSystem {
   double s = 1.02, scale = 1e-4;  // 1 + dt alpha and dt^2 + dt beta
 
   // Each assembly starts from the same warm start of the rotations (the model's caches),
-  // so both paths see the same rotations to the bit.
-  void assemble_double(const Nodes& x, BlockSparseMatrix& A, Nodes& forces) {
+  // so both paths see the same rotations to the bit. `into` puts the stiffness in one of
+  // the two systems.
+  void evaluate(const Nodes& x, Nodes& forces, const std::function<void(Results&)>& into) {
     model->restore_caches();
-    A.assign_scaled(s, mass, false);
     forces.setZero(3, x.cols());
     Request what;
     what.forces = true;
@@ -43,25 +44,18 @@ struct StepSystem {
     what.forces_at = &x;
     Results out;
     out.forces = &forces;
-    out.stiffness = &A;
+    into(out);
     model->evaluate(x, what, out);
+  }
+  void assemble_double(const Nodes& x, BlockSparseMatrix& A, Nodes& forces) {
+    A.assign_scaled(s, mass, false);
+    evaluate(x, forces, [&](Results& out) { out.stiffness = &A; });
     attachments.add_stiffness(scale, A);
     fixed.project(A);
   }
   void assemble_single(const Nodes& x, SinglePrecisionSymmetric& S, Nodes& forces, std::uint64_t version) {
-    model->restore_caches();
     S.start_assembly(mass, s, version);
-    forces.setZero(3, x.cols());
-    Request what;
-    what.forces = true;
-    what.stiffness = StiffnessKind::Model;
-    what.stiffness_scale = scale;
-    what.lower_blocks = false;
-    what.forces_at = &x;
-    Results out;
-    out.forces = &forces;
-    out.single_stiffness = &S;
-    model->evaluate(x, what, out);
+    evaluate(x, forces, [&](Results& out) { out.single_stiffness = &S; });
     attachments.add_stiffness(scale, S);
     fixed.project(S);
   }
@@ -101,10 +95,7 @@ Nodes sagging_beam(std::unique_ptr<LinearSolver> solver) {
   IntegratorSettings settings;
   settings.time_step = 1e-2;
   Simulation sim(make_model("corotational", "tetra", mesh.points, mesh.cells, kMaterial), settings, std::move(solver));
-  std::vector<Index> left;
-  for (Index i = 0; i < mesh.points.cols(); ++i)
-    if (mesh.points(0, i) == 0) left.push_back(i);
-  sim.set_fixed_nodes(left);
+  sim.set_fixed_nodes(fixtures::nodes_at_x0(mesh));
   sim.set_gravity(Vec3(0, 0, -9.81));
   sim.step(30);
   return sim.positions() - mesh.points;
