@@ -19,8 +19,9 @@ class PCG:
 
     max_iterations  cap on CG iterations per step; the step uses what it has at the cap
     tolerance       relative residual |b - A dv| / |b| at which CG stops early; from 1e-4
-                    up, CG with "two_level" multiplies with the float32 copy of A that the
-                    preconditioner keeps (A to 6e-8 per entry; below 1e-4, in double)
+                    up, with "two_level" or "reference_factor", the step assembles A in
+                    float32 and CG multiplies with it (A to about 1e-7 per entry; below
+                    1e-4, and for the step that builds the preconditioner, in double)
     preconditioner  "auto" (default): "reference_factor" below 6,000 unknowns, "two_level"
                     from there on, chosen at the first step;
                     "two_level" (smoothed aggregation with rigid-body modes: block-Jacobi
