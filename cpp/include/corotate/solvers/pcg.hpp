@@ -14,8 +14,10 @@ namespace corotate {
 // CG multiplies with the float32 copy of A that a preconditioner keeps for its own products
 // (SinglePrecisionSymmetric: half the bytes of the double product, which is bound by them)
 // when the tolerance is this far above float32's rounding: the system it then solves
-// differs from A by relative 6e-8 per entry, a thousand times below the residual asked for.
-// Tighter tolerances (the converged references, statics) multiply in double.
+// differs from A by about 1e-7 of its entries (rounded once, or summed in float32 where the
+// step assembles straight into the copy: single_precision_target), a thousand times below
+// the residual asked for. Tighter tolerances (the converged references, statics) stay in
+// double.
 constexpr double kSinglePrecisionProductTolerance = 1e-4;
 
 struct PCGSettings {
