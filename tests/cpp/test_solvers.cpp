@@ -100,21 +100,35 @@ TEST(pcg_iteration_cap_stops_early) {
 TEST(pcg_multiplies_with_the_float_copy_only_at_loose_tolerances) {
   const Problem p;
   const double drift = 100 * 2.2e-16 * p.condition();
-  for (const double tolerance : {1e-3, 1e-5}) {
-    const bool single = tolerance >= kSinglePrecisionProductTolerance;
-    PCG pcg(PCGSettings{100, tolerance, false, PreconditionerKind::TwoLevel});
-    pcg.set_geometry(p.mesh.points);
-    Vec x;
-    const SolveStats stats = pcg.solve(p.system.A, p.b, x);
-    const double true_residual = relative_residual(p.system.A, x, p.b);
-    const double gap = std::abs(true_residual - stats.relative_residual);
-    std::printf("  tolerance %.0e: reported %.6e, true %.6e\n", tolerance, stats.relative_residual, true_residual);
-    CHECK(stats.converged);
-    CHECK(true_residual <= tolerance * (1 + 1e-3));
-    if (single) CHECK(gap > 1e-11 && gap < 1e-6);
-    else CHECK(gap <= drift);
+  for (const auto kind : {PreconditionerKind::TwoLevel, PreconditionerKind::ReferenceFactor})
+    for (const double tolerance : {1e-3, 1e-5}) {
+      const bool single = tolerance >= kSinglePrecisionProductTolerance;
+      PCG pcg(PCGSettings{100, tolerance, false, kind});
+      pcg.set_geometry(p.mesh.points);
+      Vec x;
+      const SolveStats stats = pcg.solve(p.system.A, p.b, x);
+      const double true_residual = relative_residual(p.system.A, x, p.b);
+      const double gap = std::abs(true_residual - stats.relative_residual);
+      std::printf("  %s, tolerance %.0e: reported %.6e, true %.6e\n", preconditioner_name(kind), tolerance,
+                  stats.relative_residual, true_residual);
+      CHECK(stats.converged);
+      CHECK(true_residual <= tolerance * (1 + 1e-3));
+      if (single) CHECK(gap > 1e-11 && gap < 1e-6);
+      else CHECK(gap <= drift);
+      // The next step may assemble straight into the float32 copy only where CG uses it.
+      CHECK((pcg.single_precision_target() != nullptr) == single);
+    }
+  // reference_factor keeps the copy for CG alone: told that CG multiplies in double, it makes
+  // none (no conversion per step).
+  for (const bool single : {true, false}) {
+    ReferenceFactorPreconditioner factor;
+    factor.set_single_precision_products(single);
+    factor.compute(p.system.A);
+    CHECK((factor.single_precision_matrix() != nullptr) == single);
+    CHECK((factor.assembly_target() != nullptr) == single);
   }
 }
+
 TEST(pcg_rejects_bad_settings) {
   CHECK_THROWS(PCG(PCGSettings{0, 1e-6, true, PreconditionerKind::Jacobi}), InvalidInput);
   CHECK_THROWS(PCG(PCGSettings{10, 0.0, true, PreconditionerKind::Jacobi}), InvalidInput);

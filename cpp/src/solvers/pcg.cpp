@@ -14,6 +14,7 @@ void PCGSettings::validate() const {
 PCG::PCG(const PCGSettings& settings)
     : settings_(settings), preconditioner_(make_preconditioner(settings.preconditioner)) {
   settings.validate();
+  preconditioner_->set_single_precision_products(settings.tolerance >= kSinglePrecisionProductTolerance);
 }
 
 void PCG::precondition() {

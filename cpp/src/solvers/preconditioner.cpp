@@ -62,7 +62,7 @@ void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
   } else {
     turn(A.num_nodes(), false);
   }
-  A_single_.assign(A);
+  if (single_) A_single_.assign(A);
 }
 
 void ReferenceFactorPreconditioner::compute_assembled() {
@@ -85,6 +85,7 @@ void AutoPreconditioner::compute(const BlockSparseMatrix& A) {
     kind_ = A.num_dofs() < kAutoFactorDofs ? PreconditionerKind::ReferenceFactor : PreconditionerKind::TwoLevel;
     chosen_ = make_preconditioner(kind_);
     if (rest_.cols() != 0) chosen_->set_geometry(rest_);
+    chosen_->set_single_precision_products(single_);
     if (positions_.cols() != 0) chosen_->set_positions(positions_);
     positions_ = Nodes();
   }

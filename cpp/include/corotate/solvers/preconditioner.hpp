@@ -35,6 +35,9 @@ class Preconditioner {
   // The float32 copy of the matrix that compute() made for its own products, if it keeps one
   // (valid until the next compute()): CG may multiply with it too (pcg.hpp).
   virtual const SinglePrecisionSymmetric* single_precision_matrix() const { return nullptr; }
+  // Told once by CG whether it multiplies with single_precision_matrix() (its tolerance
+  // decides): a preconditioner that keeps the copy only for CG then need not make it.
+  virtual void set_single_precision_products(bool) {}
   // Where the next system may be assembled in float32 instead of being passed to compute()
   // (LinearSolver::single_precision_target): that copy, once it has a layout; else nullptr.
   virtual SinglePrecisionSymmetric* assembly_target() { return nullptr; }
@@ -103,13 +106,15 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   void solved(bool converged) override { refresh_ = refresh_ || !converged; }
   // Only to factorize (the first system, or after a capped solve).
   bool needs_lower_blocks() const override { return factor_.empty() || refresh_; }
-  // A float32 copy of each system for CG's products, as the two-level preconditioner keeps;
-  // between factorizations the step may assemble straight into it.
+  // A float32 copy of each system for CG's products (when CG multiplies in float32), as the
+  // two-level preconditioner keeps; between factorizations the step may assemble straight
+  // into it.
+  void set_single_precision_products(bool on) override { single_ = on; }
   const SinglePrecisionSymmetric* single_precision_matrix() const override {
-    return A_single_.has_layout() ? &A_single_ : nullptr;
+    return single_ && A_single_.has_layout() ? &A_single_ : nullptr;
   }
   SinglePrecisionSymmetric* assembly_target() override {
-    return !factor_.empty() && !refresh_ && A_single_.has_layout() ? &A_single_ : nullptr;
+    return single_ && !factor_.empty() && !refresh_ && A_single_.has_layout() ? &A_single_ : nullptr;
   }
   void compute_assembled() override;
   // Factorizations so far (the first and every refresh).
@@ -124,6 +129,7 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   bool positions_pending_ = false;
   Vec turned_;
   SinglePrecisionSymmetric A_single_;
+  bool single_ = true;
   // Checks the pending positions and turns the rotations to them (unless rebuilding).
   void turn(Index num_nodes, bool rebuilding);
 };
@@ -163,6 +169,10 @@ class AutoPreconditioner final : public Preconditioner {
     return chosen_ ? chosen_->single_precision_matrix() : nullptr;
   }
   SinglePrecisionSymmetric* assembly_target() override { return chosen_ ? chosen_->assembly_target() : nullptr; }
+  void set_single_precision_products(bool on) override {  // kept: a reset() chooses again
+    single_ = on;
+    if (chosen_) chosen_->set_single_precision_products(on);
+  }
   void compute_assembled() override { chosen_->compute_assembled(); }
   // ReferenceFactor or TwoLevel once a system was seen; Auto before.
   PreconditionerKind chosen() const { return kind_; }
@@ -171,6 +181,7 @@ class AutoPreconditioner final : public Preconditioner {
   std::unique_ptr<Preconditioner> chosen_;
   PreconditionerKind kind_ = PreconditionerKind::Auto;
   Nodes rest_, positions_;  // passed on to the one chosen
+  bool single_ = true;
 };
 
 const std::vector<std::string>& preconditioner_names();  // in the order of PreconditionerKind

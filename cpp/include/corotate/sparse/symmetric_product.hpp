@@ -14,45 +14,20 @@
 
 namespace corotate {
 
-// Four doubles from any address (unaligned); a GCC vector type, so each CPU clone uses its
-// own vector width. A block row loaded this way brings the next value along (the next row's
-// first, or the next block's); it meets x's zero fourth entry, or lands in y's unused fourth.
-typedef double v4d __attribute__((vector_size(32)));
-COROTATE_CLONE_INLINE v4d load4(const double* p) {
-  v4d v;
+// Four values of type T (double or float) from any address (unaligned), as a GCC vector
+// type, so each CPU clone uses its own vector width. A block row loaded this way brings the
+// next value along (the next row's first, or the next block's); it meets x's zero fourth
+// entry, or lands in y's unused fourth.
+template <class T>
+struct Four {
+  typedef T type __attribute__((vector_size(4 * sizeof(T))));
+};
+template <class T>
+COROTATE_CLONE_INLINE typename Four<T>::type load4(const T* p) {
+  typename Four<T>::type v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-// The same from four floats, widened to double.
-typedef float v4f __attribute__((vector_size(16)));
-COROTATE_CLONE_INLINE v4d load4(const float* p) {
-  v4f v;
-  std::memcpy(&v, p, sizeof v);
-  return __builtin_convertvector(v, v4d);
-}
-// Four floats as floats: the all-float32 product (values, x and y in float32).
-COROTATE_CLONE_INLINE v4f load4f(const float* p) {
-  v4f v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-// The four-wide vector of the product's sums and its loads: double sums (of double or float
-// values, x and y in double), or float sums (everything float32).
-template <class Sum>
-struct Lanes4;
-template <>
-struct Lanes4<double> {
-  using type = v4d;
-  template <class Value>
-  static COROTATE_CLONE_INLINE v4d load(const Value* p) {
-    return load4(p);
-  }
-};
-template <>
-struct Lanes4<float> {
-  using type = v4f;
-  static COROTATE_CLONE_INLINE v4f load(const float* p) { return load4f(p); }
-};
 template <class V>
 COROTATE_CLONE_INLINE auto sum3(V v) {
   return v[0] + v[1] + v[2];
@@ -70,56 +45,56 @@ struct SymmetricRows {
 };
 
 // y = A x on rows [first, last), one row chunk, for a symmetric A given by the blocks
-// multiply_symmetric reads (9 values each, row-major, from values; Value double or float,
-// widened to double), x and y four per node; Sum float: values, x, y and the sums in float32. Within a chunk each upper
-// pair is read once and used twice; a pair across chunks is read from both sides, so chunks write disjoint rows and run
-// on separate threads, and the sums do not depend on the thread count. (The callers keep the parallel loop over chunks
-// themselves: GCC outlines an OpenMP loop before inlining, so one inside this helper would not be compiled for the
-// caller's CPU clone.)
-template <class Value, class Sum = double>
-COROTATE_CLONE_INLINE void symmetric_chunk(const Value* values, const int* columns, const SymmetricRows& rows,
-                                           int first, int last, const Sum* xp, Sum* yp) {
-  using L = Lanes4<Sum>;
-  using V = typename L::type;
+// multiply_symmetric reads (9 values each, row-major, from values), x and y four per node,
+// values, vectors and sums all of type T: double for the system matrix, float for its
+// float32 copy. Within a chunk each upper pair is read once and used twice; a pair across
+// chunks is read from both sides, so chunks write disjoint rows and run on separate threads,
+// and the sums do not depend on the thread count. (The callers keep the parallel loop over
+// chunks themselves: GCC outlines an OpenMP loop before inlining, so one inside this helper
+// would not be compiled for the caller's CPU clone.)
+template <class T>
+COROTATE_CLONE_INLINE void symmetric_chunk(const T* values, const int* columns, const SymmetricRows& rows, int first,
+                                           int last, const T* xp, T* yp) {
+  using V = typename Four<T>::type;
   // y_i of the chunk collects B^T x_i from the chunk's earlier rows, then its own row.
-  std::fill(yp + 4 * first, yp + 4 * last, Sum(0));
+  std::fill(yp + 4 * first, yp + 4 * last, T(0));
   for (int i = first; i < last; ++i) {
-    const V xi = L::load(xp + 4 * i);
+    const V xi = load4(xp + 4 * i);
     const V x0 = {xi[0], xi[0], xi[0], xi[0]}, x1 = {xi[1], xi[1], xi[1], xi[1]}, x2 = {xi[2], xi[2], xi[2], xi[2]};
     V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
     const int diagonal = rows.diagonal[i], chunk_end = rows.chunk_end[i], row_end = rows.first[i + 1];
     for (int k = rows.first[i]; k < rows.lower_end[i]; ++k) {  // pairs with earlier chunks
-      const Value* b = values + 9 * k;
-      const V xj = L::load(xp + 4 * columns[k]);
-      a0 += L::load(b) * xj;
-      a1 += L::load(b + 3) * xj;
-      a2 += L::load(b + 6) * xj;
+      const T* b = values + 9 * k;
+      const V xj = load4(xp + 4 * columns[k]);
+      a0 += load4(b) * xj;
+      a1 += load4(b + 3) * xj;
+      a2 += load4(b + 6) * xj;
     }
     {
-      const Value* b = values + 9 * diagonal;
-      a0 += L::load(b) * xi;
-      a1 += L::load(b + 3) * xi;
-      const V last_row = {Sum(b[6]), Sum(b[7]), Sum(b[8]), Sum(0)};  // the values may end here
+      const T* b = values + 9 * diagonal;
+      a0 += load4(b) * xi;
+      a1 += load4(b + 3) * xi;
+      const V last_row = {b[6], b[7], b[8], T(0)};  // the values may end here
       a2 += last_row * xi;
     }
     for (int k = diagonal + 1; k < chunk_end; ++k) {  // in-chunk pairs: both products
-      const Value* b = values + 9 * k;
+      const T* b = values + 9 * k;
       const int j = columns[k];
-      const V xj = L::load(xp + 4 * j);
-      const V b0 = L::load(b), b1 = L::load(b + 3), b2 = L::load(b + 6);
+      const V xj = load4(xp + 4 * j);
+      const V b0 = load4(b), b1 = load4(b + 3), b2 = load4(b + 6);
       a0 += b0 * xj;
       a1 += b1 * xj;
       a2 += b2 * xj;
-      V yj = L::load(yp + 4 * j);
+      V yj = load4(yp + 4 * j);
       yj += b0 * x0 + b1 * x1 + b2 * x2;
       std::memcpy(yp + 4 * j, &yj, sizeof yj);
     }
     for (int k = chunk_end; k < row_end; ++k) {  // pairs with later chunks
-      const Value* b = values + 9 * k;
-      const V xj = L::load(xp + 4 * columns[k]);
-      a0 += L::load(b) * xj;
-      a1 += L::load(b + 3) * xj;
-      a2 += L::load(b + 6) * xj;
+      const T* b = values + 9 * k;
+      const V xj = load4(xp + 4 * columns[k]);
+      a0 += load4(b) * xj;
+      a1 += load4(b + 3) * xj;
+      a2 += load4(b + 6) * xj;
     }
     yp[4 * i] += sum3(a0);
     yp[4 * i + 1] += sum3(a1);
