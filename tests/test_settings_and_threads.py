@@ -289,20 +289,23 @@ def test_progress_reports_every_step_including_the_last(which):
 
 
 @pytest.mark.parametrize("which", [0, 1], ids=["implicit", "explicit"])
-def test_an_error_in_the_progress_callback_fails_the_call_and_restores_the_state(which):
+@pytest.mark.parametrize("steps,fail_at", [(5, 3), (1, 1)], ids=["third of five", "after a single step"])
+def test_an_error_in_the_progress_callback_fails_the_call_and_restores_the_state(which, steps, fail_at):
+    # (after a single step: the step has committed, only the callback can still fail)
     sim = _small_sims()[which]
     sim.step(2)
-    before = (sim.positions.copy(), sim.velocities.copy(), sim.time)
+    before = (sim.positions.copy(), sim.velocities.copy(), sim.accelerations.copy(), sim.time)
 
-    def fail_at_three(done, n):
-        if done == 3:
+    def fail(done, n):
+        if done == fail_at:
             raise ValueError("stop here")
 
     with pytest.raises(ValueError, match="stop here"):
-        sim.step(5, progress=fail_at_three)
+        sim.step(steps, progress=fail)
     np.testing.assert_array_equal(sim.positions, before[0])
     np.testing.assert_array_equal(sim.velocities, before[1])
-    assert (sim.time, sim.stats["steps"]) == (before[2], 2)
+    np.testing.assert_array_equal(sim.accelerations, before[2])
+    assert (sim.time, sim.stats["steps"]) == (before[3], 2)
 
 
 def test_solve_static_reports_each_load_step_and_an_error_in_it_restores_the_state():

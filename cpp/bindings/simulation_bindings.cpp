@@ -223,7 +223,11 @@ void bind_simulation(py::module_& m) {
           [](Simulation& s, int n, const std::optional<py::function>& progress) {
             ProgressAndSignals after_each_step(progress, n);
             py::gil_scoped_release release;
-            s.step(n, std::ref(after_each_step));
+            // A single step without progress has no "between steps" to interrupt (Python
+            // raises a Ctrl-C as the call returns): no callback, so the step needs no copy
+            // of the state to restore after it committed (Simulation::step).
+            if (n == 1 && !progress) s.step(1);
+            else s.step(n, std::ref(after_each_step));
           },
           py::arg("n") = 1, py::arg("progress") = py::none(),
           "Take n steps; progress(done, n) is called after each; interruptible between steps (Ctrl-C "

@@ -1,6 +1,7 @@
 #include "corotate/simulation.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -68,8 +69,8 @@ void Simulation::check_health(StepStats& st) {
     for (Index i = 0; i < num_nodes(); ++i) kinetic += 0.5 * lumped_masses_[i] * v_.col(i).squaredNorm();
     const double potential = -as_dofs(load_).dot(as_dofs(x_) - as_dofs(model_->rest_positions()));
     const double total = st.start_energy + attachments_.energy(x_) + kinetic + potential;
-    bool driven = !energy_check_.valid || energy_check_.load.cols() != load_.cols() || energy_check_.load != load_ ||
-                  energy_check_.attachments_version != attachments_.version();
+    const bool new_load = energy_check_.load.cols() != load_.cols() || energy_check_.load != load_;
+    bool driven = !energy_check_.valid || new_load || energy_check_.attachments_version != attachments_.version();
     for (Index d : fixed_.list()) driven = driven || as_dofs(v_)[d] != 0.0;
     const double size = std::abs(st.start_energy) + kinetic + std::abs(potential) + 1e-300;
     // Against the lowest energy since the body was last driven, not the last step's: a slow
@@ -83,7 +84,10 @@ void Simulation::check_health(StepStats& st) {
                  "iterations, or a time step too large for the linearised step)";
     energy_check_.valid = true;
     energy_check_.lowest = driven ? total : std::min(energy_check_.lowest, total);
-    energy_check_.load = load_;
+    if (new_load) {  // (copied only when it changed: a step's load is the last one's as a rule)
+      energy_check_.load = load_;
+      energy_check_took_load_ = true;
+    }
     energy_check_.attachments_version = attachments_.version();
   }
   if (problem.tellp() > 0 && failure_policy_ == FailurePolicy::Raise) {
@@ -201,6 +205,7 @@ void Simulation::reset() {
   stats_ = {};
   energy_check_ = {};
   energy_check_backup_ = {};
+  energy_check_took_load_ = false;
 }
 
 void Simulation::record_estimates() {
@@ -213,16 +218,22 @@ void Simulation::record_estimates() {
 
 void Simulation::step(int n, const std::function<void(int done)>& after_each_step) {
   const Claim claim(*this, "step");
+  // The wall time the stats report is the call's (checks, copies and commits included, as a
+  // user times step()), without the user's callback.
+  auto since = std::chrono::steady_clock::now();
   if (n < 0) throw InvalidInput("step count must be non-negative");
   check_finite_state(x_, v_, f_ext_);
-  x_backup_ = x_;  // restored if any of the n steps fails (no allocation after the first call)
-  v_backup_ = v_;
-  a_backup_ = a_;
+  // x_, v_ and a_ change only when a step commits; they need a copy to restore only when
+  // something can still fail after the first commit: a later step or the callback (the copy
+  // is a few % of a small step).
+  const bool backup_at_first_commit = n > 1 || static_cast<bool>(after_each_step);
+  bool backed_up = false;
   const double time_before = time_;
   const SimulationStats stats_before = stats_;
   integrator_->save_state();
   model_->save_caches();
-  energy_check_backup_ = energy_check_;
+  energy_check_backup_ = static_cast<const EnergyBaseline&>(energy_check_);  // its scalars
+  energy_check_took_load_ = false;
   if (energy_check_.valid && (energy_check_.x_end != x_ || energy_check_.v_end != v_))
     energy_check_.valid = false;  // positions or velocities were written since the last call
   try {
@@ -239,6 +250,12 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
             << integrator_->non_finite_hint(st);
         throw SolverFailure(msg.str());
       }
+      if (s == 0 && backup_at_first_commit) {  // (no allocation after the first call)
+        x_backup_ = x_;
+        v_backup_ = v_;
+        a_backup_ = a_;
+        backed_up = true;
+      }
       // Copy, not swap: NumPy views point at x_'s and v_'s buffers and must stay valid.
       x_ = x_next_;
       a_ = (v_next_ - v_) / st.dt;
@@ -248,24 +265,29 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
       stats_.substeps += st.substeps;
       stats_.total_iterations += st.solve.iterations;
       stats_.simulated_time += st.dt;
-      stats_.wall_ms += st.total_ms;
       stats_.last = std::move(st);
       record_estimates();
+      const auto now = std::chrono::steady_clock::now();
+      stats_.wall_ms += std::chrono::duration<double, std::milli>(now - since).count();
       if (after_each_step) after_each_step(s + 1);
+      since = std::chrono::steady_clock::now();
     }
     if (failure_policy_ != FailurePolicy::Ignore) {
       energy_check_.x_end = x_;
       energy_check_.v_end = v_;
     }
   } catch (...) {
-    x_ = x_backup_;
-    v_ = v_backup_;
-    a_ = a_backup_;
+    if (backed_up) {
+      x_ = x_backup_;
+      v_ = v_backup_;
+      a_ = a_backup_;
+    }
     time_ = time_before;
     stats_ = stats_before;
     integrator_->restore_state();
     model_->restore_caches();
-    energy_check_ = energy_check_backup_;
+    static_cast<EnergyBaseline&>(energy_check_) = energy_check_backup_;
+    if (energy_check_took_load_) energy_check_.valid = false;
     throw;
   }
 }

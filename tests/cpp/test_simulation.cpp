@@ -74,6 +74,15 @@ TEST(a_failed_step_restores_everything_including_the_warm_start) {
   b->step(1);
   CHECK(a->positions() == b->positions());
   CHECK(a->velocities() == b->velocities());
+  // The same when the call's only step fails (no copy of the state is taken then).
+  const Nodes x1 = a->positions(), v1 = a->velocities(), a1 = a->accelerations();
+  flaky->fail_at = flaky->calls + 1;
+  CHECK_THROWS(a->step(1), SolverFailure);
+  CHECK(a->positions() == x1 && a->velocities() == v1 && a->accelerations() == a1);
+  a->step(1);
+  b->step(1);
+  CHECK(a->positions() == b->positions());
+  CHECK(a->velocities() == b->velocities());
 }
 
 TEST(settings_are_validated_before_anything_changes) {

@@ -52,7 +52,7 @@ struct SimulationStats {
   long long total_iterations = 0; // CG iterations
   long long estimates = 0;        // explicit: stability estimates
   double simulated_time = 0;      // seconds of simulated time in those steps
-  double wall_ms = 0;             // milliseconds of wall time they took, estimates included
+  double wall_ms = 0;             // milliseconds of wall time the step calls took (callbacks excluded)
   double estimate_ms = 0;         // of which stability estimates
   double ms_per_step() const { return steps ? wall_ms / steps : 0.0; }
   double iterations_per_step() const { return steps ? double(total_iterations) / steps : 0.0; }
@@ -178,13 +178,20 @@ class Simulation {
   SimulationStats stats_;
   FailurePolicy failure_policy_ = FailurePolicy::Warn;
   Vec lumped_masses_;  // per node, for the kinetic energy of the energy check
-  struct EnergyCheck {
+  struct EnergyBaseline {
     bool valid = false;
-    double lowest = 0;  // the lowest total energy since the body was last driven
-    Nodes load;
+    double lowest = 0;                    // the lowest total energy since the body was last driven
     long long attachments_version = -1;  // the springs of the last check (moving them drives the body)
+  };
+  struct EnergyCheck : EnergyBaseline {
+    Nodes load;
     Nodes x_end, v_end;  // the state the last call left: a user who writes into it drives the body
-  } energy_check_, energy_check_backup_;
+  } energy_check_;
+  // What a failed call restores: the baseline's scalars alone (x_end and v_end are written
+  // only after every step of a call succeeded; a load taken over during a failed call
+  // invalidates the baseline instead, which is what a changed load does anyway).
+  EnergyBaseline energy_check_backup_;
+  bool energy_check_took_load_ = false;
   mutable std::atomic<bool> busy_{false};  // see Claim
 };
 
