@@ -146,16 +146,18 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
       start_kinetic_minus_work =
           sim.kinetic_energy() - as_dofs(sim.gravity_forces()).dot(as_dofs(sim.positions()) - as_dofs(mesh.points));
     const double start_tip = tip_z();
+    const double wall_before = sim.stats().wall_ms;
     sim.step(1);
+    const double wall_ms = sim.stats().wall_ms - wall_before;  // the whole call, as a user times it
     const auto& st = sim.stats().last;
     if (opt.trace)
       std::printf("# %4d %10.5f %12.5g %4d %10.3g %d %d\n", s, start_tip, st.start_energy + start_kinetic_minus_work,
                   st.solve.iterations, st.solve.relative_residual, int(st.solver_stalled), int(st.energy_growth));
     if (s == 0) {
-      r.first_step_ms = st.total_ms;  // includes a preconditioner factorization
+      r.first_step_ms = wall_ms;  // includes a preconditioner factorization
       r.bytes_per_element = double(heap_bytes() - heap_before) / mesh.cells.rows();
     }
-    total.push_back(st.total_ms);
+    total.push_back(wall_ms);
     asm_.push_back(st.assembly_ms);
     sol.push_back(st.solve_ms);
     iterations += st.solve.iterations;
