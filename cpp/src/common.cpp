@@ -5,6 +5,7 @@
 namespace corotate {
 
 Index first_non_finite_node(const Nodes& x) {
+  if (x.allFinite()) return -1;  // one vectorised pass (column by column is ~4x slower)
   for (Index j = 0; j < x.cols(); ++j)
     if (!x.col(j).allFinite()) return j;
   return -1;
