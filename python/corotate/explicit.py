@@ -202,5 +202,6 @@ class ExplicitSimulation(DrivenBody):
     def stats(self) -> dict:
         """Since reset_stats(): steps, substeps, ms_per_step, simulated_time, wall_time
         [s], estimate_time [s] and estimates (dt_crit estimates), real_time_ratio; and the
-        last step's substeps (last_substeps) and their size (last_substep [s])."""
+        last step's substeps (last_substeps) and their size (last_substep [s]). The wall
+        time is that of the step() calls, progress callbacks excluded."""
         return self._sim.stats

@@ -170,7 +170,9 @@ class Simulation(DrivenBody):
         """Statistics: last step's CG iterations, residual, phase times [ms], Newton iterations
         and relative gradient norms ("newton" integrator); and over all
         steps since reset_stats(): steps, iterations_per_step, ms_per_step,
-        simulated_time, wall_time [s] and real_time_ratio (simulated / wall time)."""
+        simulated_time, wall_time [s] and real_time_ratio (simulated / wall time). The wall
+        time is that of the step() calls (checks and commit included, progress callbacks
+        excluded); the phase times are the integrator's."""
         return self._sim.stats
 
 
