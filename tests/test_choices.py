@@ -33,7 +33,8 @@ def test_models_per_cell_type():
 def test_python_defaults_are_the_core_defaults():
     core = _core.PCGSettings()
     pcg = cr.PCG()
-    assert (pcg.max_iterations, pcg.tolerance, pcg.preconditioner, pcg.warm_start) == (
+    assert pcg.tolerance is None and core.tolerance == 0.0  # the preconditioner's own
+    assert (pcg.max_iterations, pcg._settings().tolerance, pcg.preconditioner, pcg.warm_start) == (
         core.max_iterations,
         core.tolerance,
         core.preconditioner,

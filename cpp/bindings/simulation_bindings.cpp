@@ -60,6 +60,7 @@ py::dict stats_dict(const SimulationStats& st) {
   d["newton_residuals"] = st.last.newton_residuals;
   d["residual"] = st.last.solve.relative_residual;
   d["converged"] = st.last.solve.converged;
+  d["tolerance"] = st.last.solve.tolerance;
   d["iterations_per_step"] = st.iterations_per_step();
   d["ms_per_step"] = st.ms_per_step();
   d["assembly_ms"] = st.last.assembly_ms;

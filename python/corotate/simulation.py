@@ -167,7 +167,7 @@ class Simulation(DrivenBody):
 
     @property
     def stats(self) -> dict:
-        """Statistics: last step's CG iterations, residual, phase times [ms], Newton iterations
+        """Statistics: last step's CG iterations, residual, tolerance, phase times [ms], Newton iterations
         and relative gradient norms ("newton" integrator); and over all
         steps since reset_stats(): steps, iterations_per_step, ms_per_step,
         simulated_time, wall_time [s] and real_time_ratio (simulated / wall time). The wall

@@ -18,7 +18,10 @@ class PCG:
     """Preconditioned conjugate gradients with an iteration cap (the paper's solver).
 
     max_iterations  cap on CG iterations per step; the step uses what it has at the cap
-    tolerance       relative residual |b - A dv| / |b| at which CG stops early; from 1e-4
+    tolerance       relative residual |b - A dv| / |b| at which CG stops early; None
+                    (default): the preconditioner's, 2e-2 for "two_level" (its coarse
+                    correction leaves a residual that moves the body little) and 1e-2 for
+                    the others; sim.stats["tolerance"] says which was used. From 1e-4
                     up, with "two_level" or "reference_factor", the step assembles A in
                     float32 and CG multiplies with it (A to about 1e-7 per entry; below
                     1e-4, and for the step that builds the preconditioner, in double)
@@ -38,15 +41,18 @@ class PCG:
     """
 
     max_iterations: int = _DEFAULTS.max_iterations
-    tolerance: float = _DEFAULTS.tolerance
+    tolerance: float | None = None
     preconditioner: PreconditionerName = _DEFAULT_PRECONDITIONER
     warm_start: bool = _DEFAULTS.warm_start
 
     def _settings(self) -> _core.PCGSettings:
         check_choice(self.preconditioner, PRECONDITIONERS, "preconditioner")
-        return _core.PCGSettings(
-            int(self.max_iterations), float(self.tolerance), bool(self.warm_start), self.preconditioner
-        )
+        if self.tolerance is not None and not self.tolerance > 0:  # (0 is the C++ core's "default")
+            raise ValueError(
+                f"PCG: tolerance must be positive, or None for the preconditioner's default; got {self.tolerance!r}"
+            )
+        tolerance = 0.0 if self.tolerance is None else float(self.tolerance)
+        return _core.PCGSettings(int(self.max_iterations), tolerance, bool(self.warm_start), self.preconditioner)
 
     def _args(self) -> tuple[str, _core.PCGSettings]:
         return "pcg", self._settings()

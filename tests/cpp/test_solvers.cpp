@@ -1,6 +1,7 @@
 // Linear solvers on A = M + dt^2 K of a small elastic tet beam (SPD, condition number ~1e3):
 // PCG reaches its tolerance with every preconditioner, the direct solver solves to round-off.
 #include <array>
+#include <cmath>
 
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
@@ -131,7 +132,27 @@ TEST(pcg_multiplies_with_the_float_copy_only_at_loose_tolerances) {
 
 TEST(pcg_rejects_bad_settings) {
   CHECK_THROWS(PCG(PCGSettings{0, 1e-6, true, PreconditionerKind::Jacobi}), InvalidInput);
-  CHECK_THROWS(PCG(PCGSettings{10, 0.0, true, PreconditionerKind::Jacobi}), InvalidInput);
+  CHECK_THROWS(PCG(PCGSettings{10, -1e-3, true, PreconditionerKind::Jacobi}), InvalidInput);
+  CHECK_THROWS(PCG(PCGSettings{10, std::nan(""), true, PreconditionerKind::Jacobi}), InvalidInput);
+  PCG by_default(PCGSettings{10, 0.0, true, PreconditionerKind::Jacobi});  // 0: the preconditioner's
+}
+
+TEST(pcg_default_tolerance_is_the_preconditioners) {
+  // Tolerance 0 stops CG where the preconditioner says (2e-2 for two_level, 1e-2 otherwise),
+  // and the stats say which tolerance was used; a set tolerance is used as it is.
+  const Problem p;
+  for (const auto kind : {PreconditionerKind::BlockJacobi, PreconditionerKind::TwoLevel}) {
+    for (const double set : {0.0, 1e-3}) {
+      PCG pcg(PCGSettings{200, set, false, kind});
+      pcg.set_geometry(p.mesh.points);
+      Vec x;
+      const SolveStats st = pcg.solve(p.system.A, p.b, x);
+      const double expected = set > 0 ? set : (kind == PreconditionerKind::TwoLevel ? 2e-2 : 1e-2);
+      CHECK(st.tolerance == expected);
+      CHECK(st.converged && st.relative_residual <= expected);
+      CHECK(st.relative_residual > 0.1 * expected);  // it stopped there, not far below
+    }
+  }
 }
 
 TEST(direct_solver_solves_to_round_off) {

@@ -214,7 +214,11 @@ def test_bad_solver_arguments():
     with pytest.raises(ValueError, match="max_iterations"):
         _core.PCGSettings(max_iterations=0)
     with pytest.raises(ValueError, match="tolerance"):
-        _core.PCGSettings(tolerance=0.0)
+        _core.PCGSettings(tolerance=-1e-3)
+    assert _core.PCGSettings(tolerance=0.0).tolerance == 0.0  # the preconditioner's default
+    for bad in (0.0, -1e-2, float("nan")):
+        with pytest.raises(ValueError, match="tolerance must be positive, or None"):
+            cr.Simulation(cr.Body(cr.box((1, 1, 1), (1, 1, 1), "tet4"), cr.Material()), solver=cr.PCG(tolerance=bad))
     with pytest.raises(ValueError, match="tolerance"):
         _core.PCGSettings(tolerance=float("nan"))
     A = sp.identity(6, format="csr")

@@ -8,13 +8,14 @@ namespace corotate {
 
 void PCGSettings::validate() const {
   if (max_iterations < 1) throw InvalidInput("PCG: max_iterations must be at least 1");
-  if (!(tolerance > 0) || !std::isfinite(tolerance)) throw InvalidInput("PCG: tolerance must be positive");
+  if (!(tolerance >= 0) || !std::isfinite(tolerance))
+    throw InvalidInput("PCG: tolerance must be positive (or 0 for the preconditioner's default)");
 }
 
 PCG::PCG(const PCGSettings& settings)
     : settings_(settings), preconditioner_(make_preconditioner(settings.preconditioner)) {
   settings.validate();
-  preconditioner_->set_single_precision_products(settings.tolerance >= kSinglePrecisionProductTolerance);
+  preconditioner_->set_single_precision_products(settings.single_precision_products());
 }
 
 void PCG::precondition() {
@@ -43,7 +44,7 @@ SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
                        "-DOF system");
   preconditioner_->compute(A);
   const SinglePrecisionSymmetric* single =
-      settings_.tolerance >= kSinglePrecisionProductTolerance ? preconditioner_->single_precision_matrix() : nullptr;
+      settings_.single_precision_products() ? preconditioner_->single_precision_matrix() : nullptr;
   return iterate(&A, single, b, x);
 }
 
@@ -68,11 +69,12 @@ SolveStats PCG::iterate(const BlockSparseMatrix* A, const SinglePrecisionSymmetr
   const double b_norm = b.norm();
   if (!std::isfinite(b_norm))  // also catches entries so large that the norm overflows
     throw SolverFailure("PCG: the right-hand side is not finite or too large to solve in double precision");
+  const double tolerance = settings_.tolerance_or(preconditioner_->default_tolerance());
   if (b_norm == 0) {
     x.setZero();
-    return {0, 0.0, true};
+    return {0, 0.0, true, tolerance};
   }
-  const double target = settings_.tolerance * b_norm;
+  const double target = tolerance * b_norm;
   multiply(A, single, x, r_);
   r_ = b - r_;
   double r_norm = r_.norm();
@@ -82,7 +84,7 @@ SolveStats PCG::iterate(const BlockSparseMatrix* A, const SinglePrecisionSymmetr
   // preconditioner good enough to leave ~1 % behind, a spinning body's zero-iteration steps
   // gained 2 % energy in 12 steps (tests/solvers/test_pcg_follows_rotation.py). One
   // iteration removes most of it.
-  if (r_norm <= (settings_.warm_start ? 0.01 : 1.0) * target) return {0, r_norm / b_norm, true};
+  if (r_norm <= (settings_.warm_start ? 0.01 : 1.0) * target) return {0, r_norm / b_norm, true, tolerance};
 
   precondition();
   p_ = z_;
@@ -106,7 +108,7 @@ SolveStats PCG::iterate(const BlockSparseMatrix* A, const SinglePrecisionSymmetr
     rz = rz_new;
   }
   preconditioner_->solved(r_norm <= target);
-  return {it, r_norm / b_norm, r_norm <= target};
+  return {it, r_norm / b_norm, r_norm <= target, tolerance};
 }
 
 }  // namespace corotate

@@ -12,6 +12,7 @@ struct SolveStats {
   int iterations = 0;              // CG iterations (0 for a direct solve)
   double relative_residual = 0.0;  // |b - A x| / |b| at exit
   bool converged = true;           // tolerance met (a capped CG may stop before)
+  double tolerance = 0.0;          // the relative residual CG aimed at (0 for a direct solve)
 };
 
 // |b - A x| / |b| (|b - A x| when b = 0), what every solver reports; work: any vector,

@@ -22,10 +22,18 @@ constexpr double kSinglePrecisionProductTolerance = 1e-4;
 
 struct PCGSettings {
   int max_iterations = 20;   // cap; the solve stops there even when not converged
-  double tolerance = 1e-2;   // relative residual |b - A x| / |b|
+  // Relative residual |b - A x| / |b| at which CG stops; 0: the preconditioner's own
+  // (Preconditioner::default_tolerance: 2e-2 for two_level, 1e-2 for the others).
+  double tolerance = 0;
   bool warm_start = true;    // start from the x passed in (e.g. the previous step's answer)
   PreconditionerKind preconditioner = PreconditionerKind::Auto;
   void validate() const;     // throws InvalidInput naming the parameter
+  // The tolerance in force when it is left at 0 (the preconditioner's) or set.
+  double tolerance_or(double preconditioner_default) const {
+    return tolerance > 0 ? tolerance : preconditioner_default;
+  }
+  // Whether CG multiplies in float32 (every default tolerance is loose enough).
+  bool single_precision_products() const { return tolerance == 0 || tolerance >= kSinglePrecisionProductTolerance; }
 };
 
 class PCG final : public LinearSolver {
@@ -48,7 +56,7 @@ class PCG final : public LinearSolver {
   // At tolerances where CG multiplies in float32 anyway, the preconditioner's float32 copy,
   // once it has one (the two-level preconditioner after its first system).
   SinglePrecisionSymmetric* single_precision_target() override {
-    return settings_.tolerance >= kSinglePrecisionProductTolerance ? preconditioner_->assembly_target() : nullptr;
+    return settings_.single_precision_products() ? preconditioner_->assembly_target() : nullptr;
   }
   SolveStats solve_single_precision(const Vec& b, Vec& x) override;
   // CG reads A through multiply_symmetric only: the preconditioner decides.

@@ -43,6 +43,12 @@ class Preconditioner {
   virtual SinglePrecisionSymmetric* assembly_target() { return nullptr; }
   // compute() for the system assembled into assembly_target().
   virtual void compute_assembled() { throw InvalidInput("this preconditioner takes no float32 system"); }
+  // CG's tolerance when PCGSettings leave it at 0: the loosest relative residual at which
+  // the implicit step stays as close to a converged solve as the benchmark's budget allows.
+  // The two-level cycle removes the low modes' error in every iteration, so what a residual
+  // leaves behind is high-frequency and moves the body little: its default is looser
+  // (bench/README.md, "fourth round").
+  virtual double default_tolerance() const { return 1e-2; }
 };
 
 // No preconditioning (plain CG): z = r.
@@ -174,6 +180,7 @@ class AutoPreconditioner final : public Preconditioner {
     if (chosen_) chosen_->set_single_precision_products(on);
   }
   void compute_assembled() override { chosen_->compute_assembled(); }
+  double default_tolerance() const override { return chosen_ ? chosen_->default_tolerance() : 1e-2; }
   // ReferenceFactor or TwoLevel once a system was seen; Auto before.
   PreconditionerKind chosen() const { return kind_; }
 

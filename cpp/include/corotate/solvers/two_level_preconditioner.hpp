@@ -50,6 +50,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   void set_positions(const Nodes& x) override;
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
+  double default_tolerance() const override { return 2e-2; }
   // Only to build the hierarchy (P^T A0 P reads all of A0); the cycle's products, the
   // block diagonal and the float32 copy read the product blocks.
   bool needs_lower_blocks() const override { return !ready_; }
