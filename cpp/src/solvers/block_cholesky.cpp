@@ -3,6 +3,10 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cstring>
+
+#include "corotate/cpu_clones.hpp"
+#include "corotate/sparse/symmetric_product.hpp"  // Four, load4, sum3
 
 namespace corotate {
 
@@ -68,13 +72,22 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
           rows_.push_back(row_block);
           blocks_.resize(blocks_.size() + 9, 0.0f);
         }
-        blocks_[9 * slot[row_block] + 3 * r + c] = static_cast<float>(it.value());
+        blocks_[9 * slot[row_block] + 3 * c + r] = static_cast<float>(it.value());
       }
     for (size_t b = first; b < rows_.size(); ++b) slot[rows_[b]] = -1;
     column_start_.push_back(static_cast<int>(rows_.size()));
     inverse_diagonal_[k] = diagonal.triangularView<Eigen::Lower>().solve(Mat3::Identity());
   }
+  blocks_.resize(blocks_.size() + 3, 0.0f);
+  inverse_diagonal_single_.assign(24 * n, 0.0f);
+  for (Index k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) {
+        inverse_diagonal_single_[24 * k + 4 * c + r] = static_cast<float>(inverse_diagonal_[k](r, c));
+        inverse_diagonal_single_[24 * k + 12 + 4 * c + r] = static_cast<float>(inverse_diagonal_[k](c, r));
+      }
   work_.resize(3 * n);
+  work_single_.assign(4 * n, 0.0f);
 }
 
 void BlockCholesky::solve(const Vec& b, Vec& x) {
@@ -90,9 +103,9 @@ void BlockCholesky::solve(const Vec& b, Vec& x) {
     for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
       const float* L = blocks_.data() + 9 * p;
       double* wi = w + 3 * rows_[p];
-      wi[0] -= L[0] * y[0] + L[1] * y[1] + L[2] * y[2];
-      wi[1] -= L[3] * y[0] + L[4] * y[1] + L[5] * y[2];
-      wi[2] -= L[6] * y[0] + L[7] * y[1] + L[8] * y[2];
+      wi[0] -= L[0] * y[0] + L[3] * y[1] + L[6] * y[2];
+      wi[1] -= L[1] * y[0] + L[4] * y[1] + L[7] * y[2];
+      wi[2] -= L[2] * y[0] + L[5] * y[1] + L[8] * y[2];
     }
   }
   // Backward: L^T x = y, row of L^T = column of L.
@@ -101,14 +114,61 @@ void BlockCholesky::solve(const Vec& b, Vec& x) {
     for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
       const float* L = blocks_.data() + 9 * p;
       const double* xi = w + 3 * rows_[p];
-      t0 -= L[0] * xi[0] + L[3] * xi[1] + L[6] * xi[2];
-      t1 -= L[1] * xi[0] + L[4] * xi[1] + L[7] * xi[2];
-      t2 -= L[2] * xi[0] + L[5] * xi[1] + L[8] * xi[2];
+      t0 -= L[0] * xi[0] + L[1] * xi[1] + L[2] * xi[2];
+      t1 -= L[3] * xi[0] + L[4] * xi[1] + L[5] * xi[2];
+      t2 -= L[6] * xi[0] + L[7] * xi[1] + L[8] * xi[2];
     }
     Eigen::Map<Vec3>(w + 3 * k) = inverse_diagonal_[k].transpose() * Vec3(t0, t1, t2);
   }
   for (Index k = 0; k < n; ++k)
     for (int r = 0; r < 3; ++r) x[3 * order_[k] + r] = w[3 * k + r];
+}
+
+COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
+  using V = Four<float>::type;
+  const auto store4 = [](float* p, V v) { std::memcpy(p, &v, sizeof v); };
+  const auto splat = [](float s) { return V{s, s, s, s}; };
+  const Index n = static_cast<Index>(order_.size());
+  float* w = work_single_.data();
+  const float* blocks = blocks_.data();
+  const float* diagonal = inverse_diagonal_single_.data();
+  for (Index k = 0; k < n; ++k) {
+    const double* bk = b.data() + 3 * order_[k];
+    store4(w + 4 * k, V{float(bk[0]), float(bk[1]), float(bk[2]), 0.0f});
+  }
+  // Forward: L y = b, column by column; y_k = L_kk^-1 w_k, then w_i -= L_ik y_k, each block
+  // as its three columns times y_k's entries. A column's fourth lane (the next value in
+  // memory) only ever lands in w_i's fourth, which no sum reads, and y_k's fourth is 0.
+  for (Index k = 0; k < n; ++k) {
+    const V wk = load4(w + 4 * k);
+    const float* d = diagonal + 24 * k;
+    const V y = wk[0] * load4(d) + wk[1] * load4(d + 4) + wk[2] * load4(d + 8);
+    store4(w + 4 * k, y);
+    const V y0 = splat(y[0]), y1 = splat(y[1]), y2 = splat(y[2]);
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+      const float* L = blocks + 9 * p;
+      float* wi = w + 4 * rows_[p];
+      store4(wi, load4(wi) - (load4(L) * y0 + load4(L + 3) * y1 + load4(L + 6) * y2));
+    }
+  }
+  // Backward: L^T x = y; (L_ik^T x_i)_c = column c . x_i, summed lane-wise over the column's
+  // blocks and across the three lanes once (x_i's fourth lane is 0).
+  for (Index k = n - 1; k >= 0; --k) {
+    V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+      const float* L = blocks + 9 * p;
+      const V xi = load4(w + 4 * rows_[p]);
+      a0 += load4(L) * xi;
+      a1 += load4(L + 3) * xi;
+      a2 += load4(L + 6) * xi;
+    }
+    const float* wk = w + 4 * k;
+    const float t0 = wk[0] - sum3(a0), t1 = wk[1] - sum3(a1), t2 = wk[2] - sum3(a2);
+    const float* d = diagonal + 24 * k + 12;
+    store4(w + 4 * k, t0 * load4(d) + t1 * load4(d + 4) + t2 * load4(d + 8));
+  }
+  for (Index k = 0; k < n; ++k)
+    for (int r = 0; r < 3; ++r) x[3 * order_[k] + r] = w[4 * k + r];
 }
 
 }  // namespace corotate

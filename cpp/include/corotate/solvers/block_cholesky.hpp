@@ -22,15 +22,25 @@ class BlockCholesky {
   bool empty() const { return order_.empty(); }
   // x = A^-1 b (approximately: single-precision factor). x and b: num_dofs.
   void solve(const Vec& b, Vec& x);
+  // The same with the sums in float32 too (the work vector four floats per node: every block
+  // is three four-wide multiply-adds, where the double sums convert each of its nine
+  // values): for a preconditioner of CG at a loose tolerance, which multiplies in float32
+  // anyway (relative 1e-7 of a solve that aims at 1e-2).
+  void solve_single(const Vec& b, Vec& x);
   Index factor_blocks() const { return static_cast<Index>(rows_.size()); }
 
  private:
   std::vector<int> order_;             // order_[k] = node placed at position k
   std::vector<int> column_start_;      // block column k: off-diagonal blocks [start[k], start[k+1])
   std::vector<int> rows_;              // block row (position) of each off-diagonal block
-  std::vector<float> blocks_;          // 9 per off-diagonal block, row-major
+  // 9 per off-diagonal block, column by column (entry (r, c) at 3 c + r), then 3 zeros: a
+  // column read four wide takes the next value along (solve_single keeps it out of its sums).
+  std::vector<float> blocks_;
   std::vector<Mat3> inverse_diagonal_; // L_kk^-1 (lower triangular)
+  // Per node, the columns of L_kk^-1 and then of L_kk^-T, four floats each (the fourth 0).
+  std::vector<float> inverse_diagonal_single_;
   Vec work_;
+  std::vector<float> work_single_;  // four per node
 };
 
 }  // namespace corotate
