@@ -2,11 +2,13 @@
 // PCG reaches its tolerance with every preconditioner, the direct solver solves to round-off.
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "corotate/solvers/block_cholesky.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
 #include "corotate/solvers/two_level_preconditioner.hpp"
+#include "corotate/sparse/single_precision_symmetric.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
 
@@ -150,6 +152,29 @@ TEST(block_cholesky_solves_in_double_and_in_float32_sums) {
   Vec again(n);
   factor.solve_single(p.b, again);
   CHECK(again == xs);
+}
+
+TEST(block_jacobi_inverts_the_float32_diagonal_blocks_and_names_a_singular_one) {
+  const Problem p;
+  SinglePrecisionSymmetric single;
+  single.assign(p.system.A);
+  BlockJacobiPreconditioner from_single, from_double;
+  from_single.compute(single);
+  from_double.compute(p.system.A);
+  for (Index i = 0; i < p.system.A.num_nodes(); ++i) {
+    const Mat3& inv = from_single.inverse_block(i);
+    CHECK(inv == inv.transpose());  // exactly symmetric
+    CHECK((inv - from_double.inverse_block(i)).norm() < 1e-6 * from_double.inverse_block(i).norm());
+  }
+  BlockSparseMatrix singular = p.system.A;
+  singular.block(singular.diagonal_block(7)).setZero();
+  single.assign(singular);
+  CHECK_THROWS(from_single.compute(single), NotPositiveDefinite);
+  try {
+    from_single.compute(single);
+  } catch (const NotPositiveDefinite& e) {
+    CHECK(std::string(e.what()).find("node 7") != std::string::npos);
+  }
 }
 
 TEST(pcg_rejects_bad_settings) {

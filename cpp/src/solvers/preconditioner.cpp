@@ -1,5 +1,8 @@
 #include "corotate/solvers/preconditioner.hpp"
 
+#include <cmath>
+#include <limits>
+
 #include "corotate/parallel.hpp"
 #include "corotate/solvers/two_level_preconditioner.hpp"
 
@@ -31,8 +34,27 @@ void BlockJacobiPreconditioner::compute(const BlockSparseMatrix& A) {
 }
 
 void BlockJacobiPreconditioner::compute(const SinglePrecisionSymmetric& A) {
-  inverse_blocks_.resize(A.num_nodes());
-  for (Index i = 0; i < A.num_nodes(); ++i) invert(i, A.diagonal_block(i));
+  // Every step's smoother setup: the symmetric blocks' inverses by their cofactors, in one
+  // pass without a call or a branch per node (a general 3x3 inverse with a check per node
+  // took 1.6 % of a step at 15,360 tets), and exactly symmetric. Only if some block is
+  // singular (or not finite) does a second pass find the first one.
+  const Index n = A.num_nodes();
+  inverse_blocks_.resize(n);
+  const double s = A.unscale();
+  bool all_invertible = true;
+  for (Index i = 0; i < n; ++i) {
+    const float* d = A.diagonal_block_values(i);
+    const double a = s * d[0], b = s * d[1], c = s * d[2], e = s * d[4], f = s * d[5], k = s * d[8];
+    const double c00 = e * k - f * f, c01 = c * f - b * k, c02 = b * f - c * e;
+    const double c11 = a * k - c * c, c12 = b * c - a * f, c22 = a * e - b * b;
+    const double det = a * c00 + b * c01 + c * c02;
+    all_invertible &= (std::abs(det) > 0) & (std::abs(det) <= std::numeric_limits<double>::max());
+    const double inv = 1 / det;
+    inverse_blocks_[i] << c00 * inv, c01 * inv, c02 * inv, c01 * inv, c11 * inv, c12 * inv, c02 * inv, c12 * inv,
+        c22 * inv;
+  }
+  if (!all_invertible)
+    for (Index i = 0; i < n; ++i) invert(i, A.diagonal_block(i));  // throws at the first singular one
 }
 
 void BlockJacobiPreconditioner::apply(const Vec& r, Vec& z) {

@@ -67,6 +67,8 @@ class SinglePrecisionSymmetric {
   void add_to_diagonal(Index i, double value);
   // Node i's diagonal block in true units (double).
   Mat3 diagonal_block(Index i) const;
+  // Its nine stored values (divided by unscale(), row-major).
+  const float* diagonal_block_values(Index i) const { return values_.data() + 9 * diagonal_[i]; }
 
  private:
   void build_layout(const BlockSparseMatrix& A);
