@@ -276,6 +276,7 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
       energy_check_.x_end = x_;
       energy_check_.v_end = v_;
     }
+    stats_.wall_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
   } catch (...) {
     if (backed_up) {
       x_ = x_backup_;
