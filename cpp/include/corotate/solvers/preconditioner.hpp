@@ -180,7 +180,9 @@ class AutoPreconditioner final : public Preconditioner {
     if (chosen_) chosen_->set_single_precision_products(on);
   }
   void compute_assembled() override { chosen_->compute_assembled(); }
-  double default_tolerance() const override { return chosen_ ? chosen_->default_tolerance() : 1e-2; }
+  double default_tolerance() const override {
+    return chosen_ ? chosen_->default_tolerance() : Preconditioner::default_tolerance();
+  }
   // ReferenceFactor or TwoLevel once a system was seen; Auto before.
   PreconditionerKind chosen() const { return kind_; }
 
