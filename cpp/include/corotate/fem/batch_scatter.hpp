@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstring>
 #include <type_traits>
 
 #include "corotate/cpu_clones.hpp"
@@ -120,6 +121,100 @@ COROTATE_CLONE_INLINE void add_batch_product_blocks(const ForceStiffnessBatch<N,
       }
   }
 }
+
+#if defined(__GNUC__)
+// add_batch_product_blocks into float32 values, eight lanes at a time through registers. The
+// scalar loop above costs three instructions per entry (load the lane's entry, which lies
+// 64 bytes from the next, add to the matrix's entry, store), 18 % of a step at 15,360 tets.
+// Here the first eight entries of a block, taken from eight lanes, are turned from one
+// vector per entry into one vector per element by an 8 x 8 transpose of shuffles (three
+// per element and block), and each block is then one eight-wide add into the matrix plus
+// its ninth entry. GCC/Clang vector extensions: each CPU clone gets its own instructions.
+#if !defined(__clang__)
+// Only inlined into the clones (each with its own vector registers): no call passes a Float8,
+// so GCC's note that AVX vectors change the calling convention does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+namespace batch_scatter_detail {
+using Float8 = float __attribute__((vector_size(32)));
+using Int8 = int __attribute__((vector_size(32)));
+
+COROTATE_CLONE_INLINE Float8 load8(const float* p) {
+  Float8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+COROTATE_CLONE_INLINE void add8(float* p, Float8 v) {
+  v += load8(p);
+  std::memcpy(p, &v, sizeof v);
+}
+// rows[k][e] = entry k of element e -> out[e][k] (k, e < 8).
+COROTATE_CLONE_INLINE void transpose8(const Float8 (&rows)[8], Float8 (&out)[8]) {
+  Float8 t[8], u[8];
+  for (int k = 0; k < 8; k += 2) {
+    t[k] = __builtin_shufflevector(rows[k], rows[k + 1], 0, 8, 1, 9, 4, 12, 5, 13);
+    t[k + 1] = __builtin_shufflevector(rows[k], rows[k + 1], 2, 10, 3, 11, 6, 14, 7, 15);
+  }
+  for (int k = 0; k < 8; k += 4)
+    for (int h = 0; h < 2; ++h) {
+      u[k + 2 * h] = __builtin_shufflevector(t[k + h], t[k + h + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+      u[k + 2 * h + 1] = __builtin_shufflevector(t[k + h], t[k + h + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+    }
+  for (int e = 0; e < 4; ++e) {
+    out[e] = __builtin_shufflevector(u[e], u[e + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    out[e + 4] = __builtin_shufflevector(u[e], u[e + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+  }
+}
+// The first eight entries of a 3 x 3 block's transpose (the ninth, (2, 2), stays).
+COROTATE_CLONE_INLINE Float8 transpose_block8(Float8 v) {
+  return __builtin_shufflevector(v, v, 0, 3, 6, 1, 4, 7, 2, 5);
+}
+}  // namespace batch_scatter_detail
+
+template <int N, int Batch>
+COROTATE_CLONE_INLINE void add_batch_product_blocks_vectorised(const ForceStiffnessBatch<N, Batch>& batch, int count,
+                                                               const ProductBlockTargets<N>* targets, float* values) {
+  static_assert(Batch % 8 == 0, "lanes are transposed eight at a time");
+  using namespace batch_scatter_detail;
+  int p = 0, q = 0;
+  for (int i = 0; i < N; ++i)
+    for (int j = i; j < N; ++j, ++p) {
+      const auto& K = batch.K_single[p];  // K[k][lane]
+      for (int first = 0; first < count; first += 8) {
+        Float8 rows[8], blocks[8];
+        for (int k = 0; k < 8; ++k) rows[k] = load8(&K[k][first]);
+        transpose8(rows, blocks);
+        const int lanes = std::min(8, count - first);
+        for (int e = 0; e < lanes; ++e) {
+          const ProductBlockTargets<N>& t = targets[first + e];
+          const float last = K[8][first + e];
+          if (i == j) {
+            float* d = values + 9 * t.diagonal[i];
+            add8(d, blocks[e]);
+            d[8] += last;
+            continue;
+          }
+          // As in the scalar loop: which of the block and its transpose lies above the
+          // diagonal depends on the node numbers; the mirror below it only across row chunks.
+          float* up = values + 9 * t.upper[q];
+          const Float8 turned = transpose_block8(blocks[e]);
+          add8(up, t.transposed[q] ? turned : blocks[e]);
+          up[8] += last;
+          if (t.lower[q] >= 0) {
+            float* down = values + 9 * t.lower[q];
+            add8(down, t.transposed[q] ? blocks[e] : turned);
+            down[8] += last;
+          }
+        }
+      }
+      if (i != j) ++q;
+    }
+}
+#if !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+#endif
 
 // The tet batch's, compiled for AVX-512, AVX2 and the baseline (cpu_clones.hpp).
 void add_batch_blocks(const ForceStiffnessBatch<4, 16>& batch, int count, const int* ids, double* values);
