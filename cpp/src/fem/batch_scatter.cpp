@@ -1,7 +1,6 @@
 #include "corotate/fem/batch_scatter.hpp"
 
-// The vectorised scatter's eight-float vectors live only inside each clone (inlined), never
-// in a call: GCC's note that AVX vectors change the calling convention does not apply.
+// The clones below inline simd8.hpp's helpers: no call passes a vector (see there).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
@@ -20,7 +19,7 @@ COROTATE_CPU_CLONES void add_batch_product_blocks(const ForceStiffnessBatch<4, 1
 
 COROTATE_CPU_CLONES void add_batch_product_blocks(const ForceStiffnessBatch<4, 16>& batch, int count,
                                                   const ProductBlockTargets<4>* targets, float* values) {
-#if defined(__GNUC__)
+#if defined(COROTATE_HAVE_FLOAT8)
   add_batch_product_blocks_vectorised<4, 16>(batch, count, targets, values);
 #else
   add_batch_product_blocks<4, 16>(batch, count, targets, values);

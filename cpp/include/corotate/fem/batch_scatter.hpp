@@ -5,11 +5,11 @@
 #pragma once
 
 #include <algorithm>
-#include <cstring>
 #include <type_traits>
 
 #include "corotate/cpu_clones.hpp"
 #include "corotate/fem/element_kernel.hpp"
+#include "corotate/simd8.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
@@ -122,33 +122,23 @@ COROTATE_CLONE_INLINE void add_batch_product_blocks(const ForceStiffnessBatch<N,
   }
 }
 
-#if defined(__GNUC__)
+#if defined(COROTATE_HAVE_FLOAT8)
 // add_batch_product_blocks into float32 values, eight lanes at a time through registers. The
 // scalar loop above costs three instructions per entry (load the lane's entry, which lies
 // 64 bytes from the next, add to the matrix's entry, store), 18 % of a step at 15,360 tets.
 // Here the first eight entries of a block, taken from eight lanes, are turned from one
 // vector per entry into one vector per element by an 8 x 8 transpose of shuffles (three
 // per element and block), and each block is then one eight-wide add into the matrix plus
-// its ninth entry. GCC/Clang vector extensions: each CPU clone gets its own instructions.
+// its ninth entry.
 #if !defined(__clang__)
-// Only inlined into the clones (each with its own vector registers): no call passes a Float8,
-// so GCC's note that AVX vectors change the calling convention does not apply.
 #pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
+#pragma GCC diagnostic ignored "-Wpsabi"  // see simd8.hpp
 #endif
 namespace batch_scatter_detail {
-using Float8 = float __attribute__((vector_size(32)));
-using Int8 = int __attribute__((vector_size(32)));
+using simd::add8;
+using simd::Float8;
+using simd::load8;
 
-COROTATE_CLONE_INLINE Float8 load8(const float* p) {
-  Float8 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-COROTATE_CLONE_INLINE void add8(float* p, Float8 v) {
-  v += load8(p);
-  std::memcpy(p, &v, sizeof v);
-}
 // rows[k][e] = entry k of element e -> out[e][k] (k, e < 8).
 COROTATE_CLONE_INLINE void transpose8(const Float8 (&rows)[8], Float8 (&out)[8]) {
   Float8 t[8], u[8];

@@ -4,7 +4,7 @@
 // P maps each aggregate's (at most) six rigid-body coefficients to the three displacements
 // of every node it reaches, so it is made of 3 x 6 blocks: one per (node, aggregate) pair,
 // stored node by node with one aggregate index per block. Against two scalar CSR copies (P
-// and P^T, a column index per entry) this reads one index per 18 values and half the
+// and P^T, a column index per entry) this reads one index per block of 18 values and less
 // storage. P c runs over nodes (each thread writes its own nodes); P^T r runs over
 // aggregates, each gathering its blocks through a list built once, so both are the same sum
 // in the same order on any number of threads. The values are stored in float32 (summed in
@@ -43,11 +43,13 @@ class BlockProlongator {
   std::vector<int> coarse_start_;     // per aggregate, + 1
   std::vector<int> node_start_;       // first block of each node, + 1
   std::vector<int> block_aggregate_;  // aggregate of each block
-  std::vector<float> values_;         // 18 per block: the 3 x 6 block, row-major, in float32
+  // 24 per block: the 3 x 6 block in float32, each row padded with two zeros to eight
+  // values, so that a row times an aggregate's coarse values is one eight-wide multiply.
+  std::vector<float> values_;
   std::vector<int> aggregate_start_;  // first entry of each aggregate in the lists below, + 1
   std::vector<int> aggregate_block_, aggregate_node_;  // its blocks and their nodes
-  // The coarse vector with six entries per aggregate, in float32 like the values: both
-  // products sum in float32 (relative 1e-7 of a sum of |p||r| in a preconditioner; no
+  // The coarse vector with six entries per aggregate and two zeros (eight per aggregate), in
+  // float32 like the values: both products sum in float32 (relative 1e-7 of a sum of |p||r| in a preconditioner; no
   // widening of each value).
   Eigen::VectorXf padded_;
 };
