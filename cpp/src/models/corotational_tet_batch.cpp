@@ -85,19 +85,20 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
       for (int b = 0; b < B; ++b)
         out.f[n][i][b] = P[i][0][b] * G[n][0][b] + P[i][1][b] * G[n][1][b] + P[i][2][b] * G[n][2][b];
 
-  // Energy V/2 strain : sigma and det F at the frame's positions.
-  alignas(64) double sigma_x[3][3][B];
-  stress(in.R, in.F, lambda, mu, sigma_x);
+  // Energy V/2 strain : sigma and det F at the frame's positions. With strain e = sym(C) - I,
+  // C = R^T F, and sigma = 2 mu e + lambda tr(e) I: e : sigma = 2 mu e : e + lambda tr(e)^2,
+  // from C alone (no second stress tensor).
   for (int b = 0; b < B; ++b) {
-    double contraction = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        double c = in.R[0][i][b] * in.F[0][j][b] + in.R[1][i][b] * in.F[1][j][b] + in.R[2][i][b] * in.F[2][j][b];
-        if (i == j) c -= 1;
-        contraction += c * sigma_x[i][j][b];  // sigma symmetric: strain : sigma = (R^T F - I) : sigma
-      }
-    out.energy[b] = 0.5 * volume[b] * contraction;
     const auto& F = in.F;
+    const auto& R = in.R;
+    double C[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) C[i][j] = R[0][i][b] * F[0][j][b] + R[1][i][b] * F[1][j][b] + R[2][i][b] * F[2][j][b];
+    const double e00 = C[0][0] - 1, e11 = C[1][1] - 1, e22 = C[2][2] - 1, trace = e00 + e11 + e22;
+    const double s01 = C[0][1] + C[1][0], s02 = C[0][2] + C[2][0], s12 = C[1][2] + C[2][1];  // twice e_ij
+    const double contraction = 2 * mu * (e00 * e00 + e11 * e11 + e22 * e22) + mu * (s01 * s01 + s02 * s02 + s12 * s12) +
+                               lambda * trace * trace;
+    out.energy[b] = 0.5 * volume[b] * contraction;
     out.volume_ratio[b] = F[0][0][b] * (F[1][1][b] * F[2][2][b] - F[1][2][b] * F[2][1][b]) -
                           F[0][1][b] * (F[1][0][b] * F[2][2][b] - F[1][2][b] * F[2][0][b]) +
                           F[0][2][b] * (F[1][0][b] * F[2][1][b] - F[1][1][b] * F[2][0][b]);
