@@ -87,18 +87,22 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
 
   // Energy V/2 strain : sigma and det F at the frame's positions. With strain e = sym(C) - I,
   // C = R^T F, and sigma = 2 mu e + lambda tr(e) I: e : sigma = 2 mu e : e + lambda tr(e)^2,
-  // from C alone (no second stress tensor).
+  // from C alone (no second stress tensor). Loops over the lanes innermost, like the rest:
+  // the same sums written per element (C in a local 3 x 3 array) compiled to scalar code,
+  // a sixth of this function's time.
+  alignas(64) double C[3][3][B];
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l)
+      for (int b = 0; b < B; ++b)
+        C[k][l][b] = in.R[0][k][b] * in.F[0][l][b] + in.R[1][k][b] * in.F[1][l][b] + in.R[2][k][b] * in.F[2][l][b];
   for (int b = 0; b < B; ++b) {
-    const auto& F = in.F;
-    const auto& R = in.R;
-    double C[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) C[i][j] = R[0][i][b] * F[0][j][b] + R[1][i][b] * F[1][j][b] + R[2][i][b] * F[2][j][b];
-    const double e00 = C[0][0] - 1, e11 = C[1][1] - 1, e22 = C[2][2] - 1, trace = e00 + e11 + e22;
-    const double s01 = C[0][1] + C[1][0], s02 = C[0][2] + C[2][0], s12 = C[1][2] + C[2][1];  // twice e_ij
+    const double e00 = C[0][0][b] - 1, e11 = C[1][1][b] - 1, e22 = C[2][2][b] - 1, trace = e00 + e11 + e22;
+    const double s01 = C[0][1][b] + C[1][0][b], s02 = C[0][2][b] + C[2][0][b],
+                 s12 = C[1][2][b] + C[2][1][b];  // twice e_ij
     const double contraction = 2 * mu * (e00 * e00 + e11 * e11 + e22 * e22) + mu * (s01 * s01 + s02 * s02 + s12 * s12) +
                                lambda * trace * trace;
     out.energy[b] = 0.5 * volume[b] * contraction;
+    const auto& F = in.F;
     out.volume_ratio[b] = F[0][0][b] * (F[1][1][b] * F[2][2][b] - F[1][2][b] * F[2][1][b]) -
                           F[0][1][b] * (F[1][0][b] * F[2][2][b] - F[1][2][b] * F[2][0][b]) +
                           F[0][2][b] * (F[1][0][b] * F[2][1][b] - F[1][1][b] * F[2][0][b]);
