@@ -153,15 +153,25 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
   }
   // Backward: L^T x = y; (L_ik^T x_i)_c = column c . x_i, summed lane-wise over the column's
   // blocks and across the three lanes once (x_i's fourth lane is 0).
+  // Two sets of sums, even and odd blocks: with one, each block's three multiply-adds wait
+  // for the last block's (four cycles of latency), about twice what its loads and
+  // multiply-adds take.
   for (Index k = n - 1; k >= 0; --k) {
-    V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
-    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+    V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0, c0 = a0, c1 = a0, c2 = a0;
+    const auto add_block = [&](int p, V& s0, V& s1, V& s2) {
       const float* L = blocks + 9 * p;
       const V xi = load4(w + 4 * rows_[p]);
-      a0 += load4(L) * xi;
-      a1 += load4(L + 3) * xi;
-      a2 += load4(L + 6) * xi;
+      s0 += load4(L) * xi;
+      s1 += load4(L + 3) * xi;
+      s2 += load4(L + 6) * xi;
+    };
+    int p = column_start_[k];
+    for (; p + 1 < column_start_[k + 1]; p += 2) {
+      add_block(p, a0, a1, a2);
+      add_block(p + 1, c0, c1, c2);
     }
+    if (p < column_start_[k + 1]) add_block(p, a0, a1, a2);
+    a0 += c0, a1 += c1, a2 += c2;
     const float* wk = w + 4 * k;
     const float t0 = wk[0] - sum3(a0), t1 = wk[1] - sum3(a1), t2 = wk[2] - sum3(a2);
     const float* d = diagonal + 24 * k + 12;
