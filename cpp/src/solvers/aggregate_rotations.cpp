@@ -70,20 +70,18 @@ void AggregateRotations::update(const Nodes& x) {
 
 void AggregateRotations::to_built_frame(const Vec& v, Vec& out) const {
   const Index n = static_cast<Index>(aggregate_.size());
-  COROTATE_PARALLEL_FOR(n >= 512)
-  for (Index i = 0; i < n; ++i) {
+  parallel_for(n, n >= 512, [&](Index i) {
     const Vec3 vi = v.segment<3>(3 * i);
     out.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]].transpose() * vi;
-  }
+  });
 }
 
 void AggregateRotations::from_built_frame(const Vec& v, Vec& out) const {
   const Index n = static_cast<Index>(aggregate_.size());
-  COROTATE_PARALLEL_FOR(n >= 512)
-  for (Index i = 0; i < n; ++i) {
+  parallel_for(n, n >= 512, [&](Index i) {
     const Vec3 vi = v.segment<3>(3 * i);
     out.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]] * vi;
-  }
+  });
 }
 
 }  // namespace corotate

@@ -112,9 +112,14 @@ void BlockSparseMatrix::multiply(const Vec& x, Vec& y) const {
 COROTATE_CPU_CLONES void BlockSparseMatrix::symmetric_kernel(const double* xp, double* yp) const {
   const SymmetricRows rows{row_start_.data(), chunk_lower_.data(), diagonal_.data(), chunk_upper_.data()};
   const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
-  COROTATE_PARALLEL_FOR(chunks > 1)
-  for (Index c = 0; c < chunks; ++c)
-    symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
+  if (runs_in_parallel(chunks > 1)) {
+    COROTATE_PARALLEL_FOR(true)
+    for (Index c = 0; c < chunks; ++c)
+      symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
+  } else {
+    for (Index c = 0; c < chunks; ++c)
+      symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
+  }
 }
 
 void BlockSparseMatrix::multiply_symmetric(const Vec& x, Vec& y) const {

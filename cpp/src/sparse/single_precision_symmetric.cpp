@@ -111,9 +111,14 @@ Mat3 SinglePrecisionSymmetric::diagonal_block(Index i) const {
 COROTATE_CPU_CLONES void SinglePrecisionSymmetric::kernel(const float* xp, float* yp) const {
   const SymmetricRows rows{row_first_.data(), diagonal_.data(), diagonal_.data(), chunk_end_.data()};
   const Index chunks = static_cast<Index>(chunk_start_.size()) - 1;
-  COROTATE_PARALLEL_FOR(chunks > 1)
-  for (Index c = 0; c < chunks; ++c)
-    symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
+  if (runs_in_parallel(chunks > 1)) {
+    COROTATE_PARALLEL_FOR(true)
+    for (Index c = 0; c < chunks; ++c)
+      symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
+  } else {
+    for (Index c = 0; c < chunks; ++c)
+      symmetric_chunk(values_.data(), columns_.data(), rows, chunk_start_[c], chunk_start_[c + 1], xp, yp);
+  }
 }
 
 void SinglePrecisionSymmetric::multiply(const Vec& x, Vec& y) const {

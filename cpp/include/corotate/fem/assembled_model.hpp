@@ -376,8 +376,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
     std::fill(chunk_error_.begin(), chunk_error_.end(), nullptr);
     for (const auto& parts : schedule_.phases) {
       const Index count = static_cast<Index>(parts.size());
-      COROTATE_PARALLEL_FOR(count > 1)
-      for (Index i = 0; i < count; ++i)
+      parallel_for(count, count > 1, [&](Index i) {
         for (const Index c : parts[i]) {
           NodeMatrix xe[kFrameBatch], ye, fe;
           Batch batch;
@@ -428,6 +427,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
           chunk_energy_[c] = energy;
           chunk_inverted_[c] = inverted;
         }
+      });
     }
     for (const auto& error : chunk_error_)
       if (error) std::rethrow_exception(error);

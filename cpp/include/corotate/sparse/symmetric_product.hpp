@@ -117,22 +117,20 @@ void padded_product(const Vec& x, Vec& y, Kernel&& kernel, double scale = 1.0) {
   // The copies are a third of a product's memory traffic at 122,880 tets: threaded with it.
   Pad* xp = xpad.data();
   const double* xs = x.data();
-  COROTATE_PARALLEL_FOR(n >= kParallelCopyNodes)
-  for (Index i = 0; i < n; ++i) {
+  parallel_for(n, n >= kParallelCopyNodes, [&](Index i) {
     xp[4 * i] = Pad(xs[3 * i]);
     xp[4 * i + 1] = Pad(xs[3 * i + 1]);
     xp[4 * i + 2] = Pad(xs[3 * i + 2]);
     xp[4 * i + 3] = Pad(0);
-  }
+  });
   kernel(xpad.data(), ypad.data());
   const Pad* yp = ypad.data();
   double* ys = y.data();
-  COROTATE_PARALLEL_FOR(n >= kParallelCopyNodes)
-  for (Index i = 0; i < n; ++i) {
+  parallel_for(n, n >= kParallelCopyNodes, [&](Index i) {
     ys[3 * i] = scale * yp[4 * i];
     ys[3 * i + 1] = scale * yp[4 * i + 1];
     ys[3 * i + 2] = scale * yp[4 * i + 2];
-  }
+  });
 }
 
 }  // namespace corotate
