@@ -132,6 +132,10 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
   float* w = work_single_.data();
   const float* blocks = blocks_.data();
   const float* diagonal = inverse_diagonal_single_.data();
+  // The index arrays as locals: store4's memcpy may alias anything, so the members' data
+  // pointers (and each column's end) would be loaded again after every block's store.
+  const int* rows = rows_.data();
+  const int* column_start = column_start_.data();
   for (Index k = 0; k < n; ++k) {
     const double* bk = b.data() + 3 * order_[k];
     store4(w + 4 * k, V{float(bk[0]), float(bk[1]), float(bk[2]), 0.0f});
@@ -145,9 +149,9 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
     const V y = wk[0] * load4(d) + wk[1] * load4(d + 4) + wk[2] * load4(d + 8);
     store4(w + 4 * k, y);
     const V y0 = splat(y[0]), y1 = splat(y[1]), y2 = splat(y[2]);
-    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+    for (int p = column_start[k], end = column_start[k + 1]; p < end; ++p) {
       const float* L = blocks + 9 * p;
-      float* wi = w + 4 * rows_[p];
+      float* wi = w + 4 * rows[p];
       store4(wi, load4(wi) - (load4(L) * y0 + load4(L + 3) * y1 + load4(L + 6) * y2));
     }
   }
@@ -160,17 +164,18 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
     V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0, c0 = a0, c1 = a0, c2 = a0;
     const auto add_block = [&](int p, V& s0, V& s1, V& s2) {
       const float* L = blocks + 9 * p;
-      const V xi = load4(w + 4 * rows_[p]);
+      const V xi = load4(w + 4 * rows[p]);
       s0 += load4(L) * xi;
       s1 += load4(L + 3) * xi;
       s2 += load4(L + 6) * xi;
     };
-    int p = column_start_[k];
-    for (; p + 1 < column_start_[k + 1]; p += 2) {
+    int p = column_start[k];
+    const int end = column_start[k + 1];
+    for (; p + 1 < end; p += 2) {
       add_block(p, a0, a1, a2);
       add_block(p + 1, c0, c1, c2);
     }
-    if (p < column_start_[k + 1]) add_block(p, a0, a1, a2);
+    if (p < end) add_block(p, a0, a1, a2);
     a0 += c0, a1 += c1, a2 += c2;
     const float* wk = w + 4 * k;
     const float t0 = wk[0] - sum3(a0), t1 = wk[1] - sum3(a1), t2 = wk[2] - sum3(a2);
