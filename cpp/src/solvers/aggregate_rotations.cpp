@@ -61,11 +61,10 @@ void AggregateRotations::update(const Nodes& x) {
   for (Index a = 0; a < m; ++a) covariance_[a].setZero();
   // sum_i (x_i - c_x)(X_i - c_X)^T = sum_i x_i (X_i - c_X)^T: the offsets sum to zero.
   for (Index i = 0; i < x.cols(); ++i) covariance_[aggregate_[i]].noalias() += x.col(i) * offsets_.col(i).transpose();
+  // All aggregates at once: their iterations run side by side (rotation_extraction.hpp).
+  extract_rotations(covariance_.data(), rotation_guess_.data(), rotations_.data(), static_cast<int>(m));
   rotated_ = false;
-  for (Index a = 0; a < m; ++a) {
-    rotations_[a] = extract_rotation(covariance_[a], rotation_guess_[a]);
-    rotated_ = rotated_ || !rotations_[a].isIdentity(1e-12);
-  }
+  for (Index a = 0; a < m; ++a) rotated_ = rotated_ || !rotations_[a].isIdentity(1e-12);
 }
 
 void AggregateRotations::to_built_frame(const Vec& v, Vec& out) const {
