@@ -127,7 +127,6 @@ void BlockCholesky::solve(const Vec& b, Vec& x) {
 COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
   using V = Four<float>::type;
   const auto store4 = [](float* p, V v) { std::memcpy(p, &v, sizeof v); };
-  const auto splat = [](float s) { return V{s, s, s, s}; };
   const Index n = static_cast<Index>(order_.size());
   float* w = work_single_.data();
   const float* blocks = blocks_.data();
@@ -148,7 +147,7 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
     const float* d = diagonal + 24 * k;
     const V y = wk[0] * load4(d) + wk[1] * load4(d + 4) + wk[2] * load4(d + 8);
     store4(w + 4 * k, y);
-    const V y0 = splat(y[0]), y1 = splat(y[1]), y2 = splat(y[2]);
+    const float y0 = y[0], y1 = y[1], y2 = y[2];  // a scalar times a vector: a broadcast
     for (int p = column_start[k], end = column_start[k + 1]; p < end; ++p) {
       const float* L = blocks + 9 * p;
       float* wi = w + 4 * rows[p];
