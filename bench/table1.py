@@ -32,6 +32,10 @@ rows (d) and (e) are skipped.
 
     python bench/table1.py --data ../shared/data/armadillo_4k.vtu --out table1-out
     taskset -c 1 python bench/table1.py --scales 1,10,100 --frames 100,20,5
+    taskset -c 1 python bench/table1.py --scales 1 --frames 100 --solvers default --phases 1000
+
+(--phases: no table, only the medians of a step's assembly, solve and whole call over that
+many single steps from rest, and the CG iterations per step.)
 
 Prints the table, writes OUT/table1.md, OUT/table1.json, OUT/table1_render.png (what rows (d)
 and (e) draw, at t = 1.5 s and 3 s, of the first scale) and OUT/table1.png (ratio and F/s
@@ -243,6 +247,28 @@ def deviation(cage: cr.Mesh, render: cr.Mesh, frames: int, solver: str) -> dict[
     return result
 
 
+def phases(cage: cr.Mesh, render: cr.Mesh, steps: int, solver: str) -> dict[str, float]:
+    """Medians over `steps` single steps from rest of the step's phases (sim.stats: the
+    assembly and the solve, in ms), the whole step() call and the CG iterations per step."""
+    body, fixed, _ = scene(cage, render)
+    sim = at_rest(body, fixed, solver)
+    assembly, solve, call, iterations = [], [], [], []
+    for _ in range(steps):
+        t0 = time.perf_counter()
+        sim.step(1)
+        call.append(1e3 * (time.perf_counter() - t0))
+        stats = sim.stats
+        assembly.append(stats["assembly_ms"])
+        solve.append(stats["solve_ms"])
+        iterations.append(stats["iterations"])
+    return {
+        "assembly_ms": float(np.median(assembly)),
+        "solve_ms": float(np.median(solve)),
+        "step_call_ms": float(np.median(call)),
+        "iterations": float(np.mean(iterations)),
+    }
+
+
 def plot(table: dict, out: Path) -> Path | None:
     from corotate.scenes import pyplot
 
@@ -288,6 +314,13 @@ def main() -> int:
         "direct (Cholesky each step) or pcg (two-level PCG to 1e-6)",
     )
     parser.add_argument("--from-json", help="redo the table and plot from this table1.json without timing")
+    parser.add_argument(
+        "--phases",
+        type=int,
+        metavar="STEPS",
+        help="instead of the table: the medians of the assembly, the solve and the whole step() call over "
+        "STEPS single steps (and CG iterations per step) for each scale",
+    )
     args = parser.parse_args()
     out = Path(args.out)
     scales = [int(s) for s in args.scales.split(",")]
@@ -306,6 +339,16 @@ def main() -> int:
     if args.from_json:  # only the table and the plot, from an earlier run's results
         table = json.loads(Path(args.from_json).read_text())
         scales = []
+    if args.phases:
+        for scale, solver in zip(scales, solvers):
+            cage, render = build_scene(Path(args.data), 700 * scale, out / "scene")
+            p = phases(cage, render, args.phases, solver)
+            print(
+                f"{cage.n_cells} tets, {solver}, {args.phases} steps: assembly {p['assembly_ms']:.4f} ms",
+                f"({1e6 * p['assembly_ms'] / cage.n_cells:.0f} ns per tet), solve {p['solve_ms']:.4f} ms,",
+                f"step() {p['step_call_ms']:.4f} ms, {p['iterations']:.2f} CG iterations per step",
+            )
+        return 0
     for scale, n_frames, solver in zip(scales, frames, solvers):
         cage, render = build_scene(Path(args.data), 700 * scale, out / "scene")
         name = f"{cage.n_cells} tets, {solver}"
