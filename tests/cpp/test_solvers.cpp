@@ -1,5 +1,8 @@
 // Linear solvers on A = M + dt^2 K of a small elastic tet beam (SPD, condition number ~1e3):
 // PCG reaches its tolerance with every preconditioner, the direct solver solves to round-off.
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -152,6 +155,62 @@ TEST(block_cholesky_solves_in_double_and_in_float32_sums) {
   Vec again(n);
   factor.solve_single(p.b, again);
   CHECK(again == xs);
+}
+
+TEST(block_cholesky_orders_level_by_level_with_the_fill_of_amd) {
+  // The factor's order is AMD's rearranged by levels of the elimination tree: the same fill
+  // (nonzeros of L) as AMD's order, every node after all of its descendants, levels ascending.
+  const fixtures::Mesh mesh = fixtures::tet_beam(8, 3, 3);
+  const auto system = fixtures::implicit_system(mesh, Material{1e6, 0.3, 1000.0}, 0.01);
+  const BlockSparseMatrix& A = system.A;
+  const Index n = A.num_nodes();
+  BlockCholesky factor;
+  factor.factorize(A);
+  using Sparse = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  // L of the scalar matrix with its nodes in the given order (node order[k] at position k).
+  const auto factor_in = [&](const std::vector<int>& order) {
+    std::vector<int> position(n);
+    for (Index k = 0; k < n; ++k) position[order[k]] = static_cast<int>(k);
+    Sparse permuted(3 * n, 3 * n);
+    std::vector<Eigen::Triplet<double, int>> t;
+    for (Index i = 0; i < n; ++i)
+      for (int e = A.row_start()[i]; e < A.row_start()[i + 1]; ++e)
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            t.emplace_back(3 * position[i] + r, 3 * position[A.columns()[e]] + c, A.block(e)(r, c));
+    permuted.setFromTriplets(t.begin(), t.end());
+    Eigen::SimplicialLLT<Sparse, Eigen::Lower, Eigen::NaturalOrdering<int>> llt(permuted);
+    CHECK(llt.info() == Eigen::Success);
+    return Sparse(llt.matrixL());
+  };
+  Sparse graph(n, n);
+  {
+    std::vector<Eigen::Triplet<double, int>> t;
+    for (Index i = 0; i < n; ++i)
+      for (int e = A.row_start()[i]; e < A.row_start()[i + 1]; ++e) t.emplace_back(i, A.columns()[e], 1.0);
+    graph.setFromTriplets(t.begin(), t.end());
+  }
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> amd;
+  Eigen::AMDOrdering<int>()(graph, amd);
+  const std::vector<int> amd_order(amd.indices().data(), amd.indices().data() + n);
+  const std::vector<int>& order = factor.order();
+  CHECK(order != amd_order);  // rearranged on this mesh
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (Index k = 0; k < n; ++k) CHECK(sorted[k] == k);  // a permutation
+  const Sparse L = factor_in(order);
+  CHECK(L.nonZeros() == factor_in(amd_order).nonZeros());
+  // Elimination tree of L: a node's parent is the first node below it in its columns.
+  std::vector<int> level(n, 0);
+  for (Index k = 0; k < n; ++k) {
+    int parent = -1;
+    for (int c = 0; c < 3; ++c)
+      for (Sparse::InnerIterator it(L, 3 * k + c); it; ++it)
+        if (it.row() / 3 > k && (parent < 0 || it.row() / 3 < parent)) parent = it.row() / 3;
+    if (parent >= 0) level[parent] = std::max(level[parent], level[k] + 1);
+    if (k > 0) CHECK(level[k] >= level[k - 1]);  // final: all its children came before
+  }
+  CHECK(level[n - 1] > 0 && level[0] == 0);
 }
 
 TEST(block_jacobi_inverts_the_float32_diagonal_blocks_and_names_a_singular_one) {

@@ -10,6 +10,46 @@
 
 namespace corotate {
 
+namespace {
+
+// The elimination order `amd` (order[k] = node eliminated k-th) rearranged level by level
+// of its elimination tree: first every leaf, then every node whose children are all leaves,
+// and so on. A node's ancestors sit on higher levels, so the rearranged order is another
+// order of the same elimination tree: the same fill, the same factor up to where its
+// columns are stored. What it changes is the triangular solves: in AMD's postorder a column
+// is mostly followed by its parent, which waits for it (a chain of dependent loads, stores
+// and multiply-adds that the processor cannot overlap), while within a level no column
+// waits for another. Only the elimination tree's top (one node per level) stays a chain.
+std::vector<int> level_order(const std::vector<int>& start, const std::vector<int>& cols, const int* amd, Index n) {
+  std::vector<int> position(n);
+  for (Index k = 0; k < n; ++k) position[amd[k]] = static_cast<int>(k);
+  // Elimination tree of the node graph in AMD's order (Liu's algorithm with path compression).
+  std::vector<int> parent(n, -1), ancestor(n, -1);
+  for (Index k = 0; k < n; ++k) {
+    const int node = amd[k];
+    for (int e = start[node]; e < start[node + 1]; ++e) {
+      int i = position[cols[e]];
+      while (i != -1 && i < k) {
+        const int next = ancestor[i];
+        ancestor[i] = static_cast<int>(k);
+        if (next == -1) parent[i] = static_cast<int>(k);
+        i = next;
+      }
+    }
+  }
+  std::vector<int> level(n, 0);
+  for (Index k = 0; k < n; ++k)
+    if (parent[k] >= 0) level[parent[k]] = std::max(level[parent[k]], level[k] + 1);
+  std::vector<int> by_level(n);
+  for (Index k = 0; k < n; ++k) by_level[k] = static_cast<int>(k);
+  std::stable_sort(by_level.begin(), by_level.end(), [&](int a, int b) { return level[a] < level[b]; });
+  std::vector<int> order(n);
+  for (Index k = 0; k < n; ++k) order[k] = amd[by_level[k]];
+  return order;
+}
+
+}  // namespace
+
 void BlockCholesky::factorize(const BlockSparseMatrix& A) {
   const Index n = A.num_nodes();
   const auto& start = A.row_start();
@@ -26,7 +66,7 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
   }
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse_permutation;
   Eigen::AMDOrdering<int>()(graph, inverse_permutation);
-  order_.assign(inverse_permutation.indices().data(), inverse_permutation.indices().data() + n);
+  order_ = level_order(start, cols, inverse_permutation.indices().data(), n);
   std::vector<int> position(n);
   for (Index k = 0; k < n; ++k) position[order_[k]] = static_cast<int>(k);
 
@@ -79,6 +119,23 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
     inverse_diagonal_[k] = diagonal.triangularView<Eigen::Lower>().solve(Mat3::Identity());
   }
   blocks_.resize(blocks_.size() + 3, 0.0f);
+  // The same blocks row by row for solve_single's forward sweep, each stored transposed (its
+  // rows, 3 r + c) so that a row of the block reads four wide like a column above.
+  row_start_.assign(n + 1, 0);
+  for (int row : rows_) ++row_start_[row + 1];
+  for (Index k = 0; k < n; ++k) row_start_[k + 1] += row_start_[k];
+  row_columns_.resize(rows_.size());
+  row_blocks_.assign(9 * rows_.size() + 3, 0.0f);
+  {
+    std::vector<int> next(row_start_.begin(), row_start_.end() - 1);
+    for (Index k = 0; k < n; ++k)  // columns ascending: each row's blocks come in column order
+      for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+        const int q = next[rows_[p]]++;
+        row_columns_[q] = static_cast<int>(k);
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) row_blocks_[9 * q + 3 * r + c] = blocks_[9 * p + 3 * c + r];
+      }
+  }
   inverse_diagonal_single_.assign(24 * n, 0.0f);
   for (Index k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c)
@@ -96,17 +153,17 @@ void BlockCholesky::solve(const Vec& b, Vec& x) {
   for (Index k = 0; k < n; ++k)
     for (int r = 0; r < 3; ++r) w[3 * k + r] = b[3 * order_[k] + r];
 
-  // Forward: L y = b, column by column.
+  // Forward: L y = b, row by row (pulling the solved values in: see solve_single).
   for (Index k = 0; k < n; ++k) {
-    const Vec3 y = inverse_diagonal_[k] * Eigen::Map<const Vec3>(w + 3 * k);
-    Eigen::Map<Vec3>(w + 3 * k) = y;
-    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
-      const float* L = blocks_.data() + 9 * p;
-      double* wi = w + 3 * rows_[p];
-      wi[0] -= L[0] * y[0] + L[3] * y[1] + L[6] * y[2];
-      wi[1] -= L[1] * y[0] + L[4] * y[1] + L[7] * y[2];
-      wi[2] -= L[2] * y[0] + L[5] * y[1] + L[8] * y[2];
+    double t0 = w[3 * k], t1 = w[3 * k + 1], t2 = w[3 * k + 2];
+    for (int p = row_start_[k]; p < row_start_[k + 1]; ++p) {
+      const float* L = row_blocks_.data() + 9 * p;  // by rows
+      const double* yj = w + 3 * row_columns_[p];
+      t0 -= L[0] * yj[0] + L[1] * yj[1] + L[2] * yj[2];
+      t1 -= L[3] * yj[0] + L[4] * yj[1] + L[5] * yj[2];
+      t2 -= L[6] * yj[0] + L[7] * yj[1] + L[8] * yj[2];
     }
+    Eigen::Map<Vec3>(w + 3 * k) = inverse_diagonal_[k] * Vec3(t0, t1, t2);
   }
   // Backward: L^T x = y, row of L^T = column of L.
   for (Index k = n - 1; k >= 0; --k) {
@@ -139,45 +196,49 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
     const double* bk = b.data() + 3 * order_[k];
     store4(w + 4 * k, V{float(bk[0]), float(bk[1]), float(bk[2]), 0.0f});
   }
-  // Forward: L y = b, column by column; y_k = L_kk^-1 w_k, then w_i -= L_ik y_k, each block
-  // as its three columns times y_k's entries. A column's fourth lane (the next value in
-  // memory) only ever lands in w_i's fourth, which no sum reads, and y_k's fourth is 0.
-  for (Index k = 0; k < n; ++k) {
-    const V wk = load4(w + 4 * k);
-    const float* d = diagonal + 24 * k;
-    const V y = wk[0] * load4(d) + wk[1] * load4(d + 4) + wk[2] * load4(d + 8);
-    store4(w + 4 * k, y);
-    const float y0 = y[0], y1 = y[1], y2 = y[2];  // a scalar times a vector: a broadcast
-    for (int p = column_start[k], end = column_start[k + 1]; p < end; ++p) {
-      const float* L = blocks + 9 * p;
-      float* wi = w + 4 * rows[p];
-      store4(wi, load4(wi) - (load4(L) * y0 + load4(L + 3) * y1 + load4(L + 6) * y2));
-    }
-  }
-  // Backward: L^T x = y; (L_ik^T x_i)_c = column c . x_i, summed lane-wise over the column's
-  // blocks and across the three lanes once (x_i's fourth lane is 0).
-  // Two sets of sums, even and odd blocks: with one, each block's three multiply-adds wait
-  // for the last block's (four cycles of latency), about twice what its loads and
-  // multiply-adds take.
-  for (Index k = n - 1; k >= 0; --k) {
+  // Both sweeps pull: a node's new value is its own right-hand side minus the products of
+  // 3x3 blocks with values already solved, summed in registers (two sets of sums, even and
+  // odd blocks, so that a block's multiply-adds do not wait for the last block's) and
+  // stored once. Pushing each solved value into the entries that still wait for it (the
+  // column sweep) is a load, subtract and store of the same entry by block after block,
+  // each waiting for the store before it. Each block row times x_i is taken lane-wise and
+  // summed across three lanes once; a row read four wide takes the next value along into
+  // the fourth lane, which meets x_i's fourth lane, 0.
+  const auto dot_blocks = [w](const float* values, const int* index, int p, int end, float out[3]) {
     V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0, c0 = a0, c1 = a0, c2 = a0;
-    const auto add_block = [&](int p, V& s0, V& s1, V& s2) {
-      const float* L = blocks + 9 * p;
-      const V xi = load4(w + 4 * rows[p]);
+    const auto add_block = [&](int q, V& s0, V& s1, V& s2) {
+      const float* L = values + 9 * q;
+      const V xi = load4(w + 4 * index[q]);
       s0 += load4(L) * xi;
       s1 += load4(L + 3) * xi;
       s2 += load4(L + 6) * xi;
     };
-    int p = column_start[k];
-    const int end = column_start[k + 1];
     for (; p + 1 < end; p += 2) {
       add_block(p, a0, a1, a2);
       add_block(p + 1, c0, c1, c2);
     }
     if (p < end) add_block(p, a0, a1, a2);
-    a0 += c0, a1 += c1, a2 += c2;
+    out[0] = sum3(a0 + c0), out[1] = sum3(a1 + c1), out[2] = sum3(a2 + c2);
+  };
+  // Forward: L y = b; y_k = L_kk^-1 (b_k - sum_j<k L_kj y_j) over row k's blocks.
+  const float* row_blocks = row_blocks_.data();
+  const int* row_columns = row_columns_.data();
+  const int* row_start = row_start_.data();
+  for (Index k = 0; k < n; ++k) {
+    float s[3];
+    dot_blocks(row_blocks, row_columns, row_start[k], row_start[k + 1], s);
     const float* wk = w + 4 * k;
-    const float t0 = wk[0] - sum3(a0), t1 = wk[1] - sum3(a1), t2 = wk[2] - sum3(a2);
+    const float t0 = wk[0] - s[0], t1 = wk[1] - s[1], t2 = wk[2] - s[2];
+    const float* d = diagonal + 24 * k;
+    store4(w + 4 * k, t0 * load4(d) + t1 * load4(d + 4) + t2 * load4(d + 8));
+  }
+  // Backward: L^T x = y; x_k = L_kk^-T (y_k - sum_i>k L_ik^T x_i) over column k's blocks
+  // (column c of L_ik dotted with x_i).
+  for (Index k = n - 1; k >= 0; --k) {
+    float s[3];
+    dot_blocks(blocks, rows, column_start[k], column_start[k + 1], s);
+    const float* wk = w + 4 * k;
+    const float t0 = wk[0] - s[0], t1 = wk[1] - s[1], t2 = wk[2] - s[2];
     const float* d = diagonal + 24 * k + 12;
     store4(w + 4 * k, t0 * load4(d) + t1 * load4(d + 4) + t2 * load4(d + 8));
   }

@@ -1,12 +1,16 @@
 // A sparse Cholesky factor A = L L^T of a 3x3-block matrix, stored for fast repeated solves.
 //
 // The nodes are ordered by AMD on the node graph so that each node's three DOFs stay
-// together; Eigen's SimplicialLLT factorizes the permuted matrix, and the factor is then
+// together, then level by level of the elimination tree (the same fill; see level_order in
+// the .cpp); Eigen's SimplicialLLT factorizes the permuted matrix, and the factor is then
 // repacked as 3x3 blocks in single precision (the off-diagonal blocks) with inverted
 // diagonal blocks in double. A solve reads 9 floats and one index per block instead of
-// 9 doubles and 9 indices: the triangular solves are memory bound, so this is what makes a
-// reused factorization cheap enough to precondition every step. Single precision is ample
-// for a preconditioner: CG still converges to the tolerance it is given.
+// 9 doubles and 9 indices: on large factors the triangular solves are memory bound, so this
+// is what makes a reused factorization cheap enough to precondition every step. Single
+// precision is ample for a preconditioner: CG still converges to the tolerance it is given.
+// The off-diagonal blocks are kept twice, by columns for the backward sweep and by rows for
+// the forward one, so that both sweeps sum in registers (on small factors, which fit in
+// cache, the solves are bound by the latency of their dependent operations instead).
 #pragma once
 
 #include <vector>
@@ -28,6 +32,8 @@ class BlockCholesky {
   // anyway (relative 1e-7 of a solve that aims at 1e-2).
   void solve_single(const Vec& b, Vec& x);
   Index factor_blocks() const { return static_cast<Index>(rows_.size()); }
+  // The elimination order: order()[k] is the node eliminated k-th.
+  const std::vector<int>& order() const { return order_; }
 
  private:
   std::vector<int> order_;             // order_[k] = node placed at position k
@@ -36,6 +42,10 @@ class BlockCholesky {
   // 9 per off-diagonal block, column by column (entry (r, c) at 3 c + r), then 3 zeros: a
   // column read four wide takes the next value along (solve_single keeps it out of its sums).
   std::vector<float> blocks_;
+  // The off-diagonal blocks again, row by row (row k's from row_start_[k], with their block
+  // columns), each stored by rows (entry (r, c) at 3 r + c), then 3 zeros.
+  std::vector<int> row_start_, row_columns_;
+  std::vector<float> row_blocks_;
   std::vector<Mat3> inverse_diagonal_; // L_kk^-1 (lower triangular)
   // Per node, the columns of L_kk^-1 and then of L_kk^-T, four floats each (the fourth 0).
   std::vector<float> inverse_diagonal_single_;
