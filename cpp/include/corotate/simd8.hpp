@@ -1,5 +1,6 @@
 // Eight-float vectors for the hot loops GCC does not vectorise well by itself (a scatter of
-// 3 x 3 blocks, 3 x 6 prolongator blocks): GCC/Clang vector extensions, so each CPU clone
+// 3 x 3 blocks, 3 x 6 prolongator blocks), and eight-double ones for CG's vector operations
+// (sums that GCC does not reorder by itself): GCC/Clang vector extensions, so each CPU clone
 // (cpu_clones.hpp) compiles them with its own instructions (one 256-bit register with AVX2
 // or AVX-512, two 128-bit ones on the x86-64 baseline). COROTATE_HAVE_FLOAT8 says whether the
 // compiler has them; callers keep a scalar loop for the others.
@@ -36,6 +37,20 @@ COROTATE_CLONE_INLINE void add8(float* p, Float8 v) { store8(p, load8(p) + v); }
 COROTATE_CLONE_INLINE float sum8(Float8 v) {
   using Float4 = float __attribute__((vector_size(16)));
   const Float4 h = __builtin_shufflevector(v, v, 0, 1, 2, 3) + __builtin_shufflevector(v, v, 4, 5, 6, 7);
+  return (h[0] + h[2]) + (h[1] + h[3]);
+}
+
+using Double8 = double __attribute__((vector_size(64)));
+
+COROTATE_CLONE_INLINE Double8 load8(const double* p) {
+  Double8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+COROTATE_CLONE_INLINE void store8(double* p, Double8 v) { std::memcpy(p, &v, sizeof v); }
+COROTATE_CLONE_INLINE double sum8(Double8 v) {
+  using Double4 = double __attribute__((vector_size(32)));
+  const Double4 h = __builtin_shufflevector(v, v, 0, 1, 2, 3) + __builtin_shufflevector(v, v, 4, 5, 6, 7);
   return (h[0] + h[2]) + (h[1] + h[3]);
 }
 
