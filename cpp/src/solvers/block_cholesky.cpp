@@ -48,6 +48,16 @@ std::vector<int> level_order(const std::vector<int>& start, const std::vector<in
   return order;
 }
 
+// Node `node`'s entries of b, turned into the build frame of its aggregate when turning.
+COROTATE_CLONE_INLINE Vec3 read_in(const Vec& b, int node, const AggregateRotations* turn) {
+  const Vec3 v = b.segment<3>(3 * node);
+  return turn ? Vec3(turn->rotation(turn->aggregate_of_node()[node]).transpose() * v) : v;
+}
+
+COROTATE_CLONE_INLINE void write_out(Vec& x, int node, const Vec3& v, const AggregateRotations* turn) {
+  x.segment<3>(3 * node) = turn ? Vec3(turn->rotation(turn->aggregate_of_node()[node]) * v) : v;
+}
+
 }  // namespace
 
 void BlockCholesky::factorize(const BlockSparseMatrix& A) {
@@ -147,11 +157,10 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
   work_single_.assign(4 * n, 0.0f);
 }
 
-void BlockCholesky::solve(const Vec& b, Vec& x) {
+void BlockCholesky::solve(const Vec& b, Vec& x, const AggregateRotations* turn) {
   const Index n = static_cast<Index>(order_.size());
   double* w = work_.data();
-  for (Index k = 0; k < n; ++k)
-    for (int r = 0; r < 3; ++r) w[3 * k + r] = b[3 * order_[k] + r];
+  for (Index k = 0; k < n; ++k) Eigen::Map<Vec3>(w + 3 * k) = read_in(b, order_[k], turn);
 
   // Forward: L y = b, row by row (pulling the solved values in: see solve_single).
   for (Index k = 0; k < n; ++k) {
@@ -177,11 +186,10 @@ void BlockCholesky::solve(const Vec& b, Vec& x) {
     }
     Eigen::Map<Vec3>(w + 3 * k) = inverse_diagonal_[k].transpose() * Vec3(t0, t1, t2);
   }
-  for (Index k = 0; k < n; ++k)
-    for (int r = 0; r < 3; ++r) x[3 * order_[k] + r] = w[3 * k + r];
+  for (Index k = 0; k < n; ++k) write_out(x, order_[k], Eigen::Map<const Vec3>(w + 3 * k), turn);
 }
 
-COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
+COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x, const AggregateRotations* turn) {
   using V = Four<float>::type;
   const auto store4 = [](float* p, V v) { std::memcpy(p, &v, sizeof v); };
   const Index n = static_cast<Index>(order_.size());
@@ -193,7 +201,7 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
   const int* rows = rows_.data();
   const int* column_start = column_start_.data();
   for (Index k = 0; k < n; ++k) {
-    const double* bk = b.data() + 3 * order_[k];
+    const Vec3 bk = read_in(b, order_[k], turn);
     store4(w + 4 * k, V{float(bk[0]), float(bk[1]), float(bk[2]), 0.0f});
   }
   // Both sweeps pull: a node's new value is its own right-hand side minus the products of
@@ -242,8 +250,7 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x) {
     const float* d = diagonal + 24 * k + 12;
     store4(w + 4 * k, t0 * load4(d) + t1 * load4(d + 4) + t2 * load4(d + 8));
   }
-  for (Index k = 0; k < n; ++k)
-    for (int r = 0; r < 3; ++r) x[3 * order_[k] + r] = w[4 * k + r];
+  for (Index k = 0; k < n; ++k) write_out(x, order_[k], Vec3(w[4 * k], w[4 * k + 1], w[4 * k + 2]), turn);
 }
 
 }  // namespace corotate

@@ -80,7 +80,6 @@ void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
     ++factorizations_;
     // Built at the positions A was assembled at: rotations are measured from there.
     if (positions_.cols() != 0) rotations_.build(A, positions_);
-    turned_.resize(A.num_dofs());
   } else {
     turn(A.num_nodes(), false);
   }
@@ -94,14 +93,8 @@ void ReferenceFactorPreconditioner::compute_assembled() {
 
 void ReferenceFactorPreconditioner::apply(const Vec& r, Vec& z) {
   // Where CG multiplies in float32 (a loose tolerance) the factor sums in float32 too.
-  const auto solve = [this](const Vec& b, Vec& x) { single_ ? factor_.solve_single(b, x) : factor_.solve(b, x); };
-  if (!rotations_.rotated()) {
-    solve(r, z);
-    return;
-  }
-  rotations_.to_built_frame(r, turned_);
-  solve(turned_, z);
-  rotations_.from_built_frame(z, z);
+  const AggregateRotations* turn = rotations_.rotated() ? &rotations_ : nullptr;
+  single_ ? factor_.solve_single(r, z, turn) : factor_.solve(r, z, turn);
 }
 
 void AutoPreconditioner::compute(const BlockSparseMatrix& A) {

@@ -133,7 +133,6 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   AggregateRotations rotations_;  // empty until positions arrive at the build
   Nodes positions_;
   bool positions_pending_ = false;
-  Vec turned_;
   SinglePrecisionSymmetric A_single_;
   bool single_ = true;
   // Checks the pending positions and turns the rotations to them (unless rebuilding).
