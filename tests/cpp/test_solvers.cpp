@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "corotate/solvers/aggregate_rotations.hpp"
 #include "corotate/solvers/block_cholesky.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
@@ -139,27 +140,58 @@ TEST(pcg_multiplies_with_the_float_copy_only_at_loose_tolerances) {
 TEST(block_cholesky_solves_in_double_and_in_float32_sums) {
   // The reused factor (float32 blocks) inverts A to float32 accuracy; summing in float32
   // (solve_single, four lanes per node) changes the answer by float32 round-off only.
+  // Both forward sweeps of solve_single: pulling (a factor small enough to be kept by rows
+  // too, the default here) and pushing (told to keep none).
   const Problem p;
-  BlockCholesky factor;
-  factor.factorize(p.system.A);
+  for (const size_t latency_bound_bytes : {BlockCholesky::kLatencyBoundBytes, size_t(0)}) {
+    BlockCholesky factor;
+    factor.factorize(p.system.A, latency_bound_bytes);
+    const Index n = p.b.size();
+    Vec x(n), xs(n);
+    factor.solve(p.b, x);
+    factor.solve_single(p.b, xs);
+    CHECK(relative_residual(p.system.A, x, p.b) < 1e-5);
+    CHECK(relative_residual(p.system.A, xs, p.b) < 1e-5);
+    CHECK((x - p.exact).norm() < 1e-4 * p.exact.norm());
+    CHECK((xs - x).norm() < 1e-5 * x.norm());
+    CHECK((xs - x).norm() > 0);  // really summed in float32
+    // Twice on the same right-hand side: the same answer (no state from the last solve).
+    Vec again(n);
+    factor.solve_single(p.b, again);
+    CHECK(again == xs);
+  }
+}
+
+TEST(block_cholesky_turned_solve_is_the_rotated_solve) {
+  // solve(b, x, turn) = R A^-1 R^T b, R the aggregates' rotations node by node.
+  const Problem p;
+  AggregateRotations turn;
+  turn.build(p.system.A, p.mesh.points);
+  const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  turn.update(R * p.mesh.points);  // turned rigidly: every aggregate by R
+  CHECK(turn.rotated());
   const Index n = p.b.size();
-  Vec x(n), xs(n);
-  factor.solve(p.b, x);
-  factor.solve_single(p.b, xs);
-  CHECK(relative_residual(p.system.A, x, p.b) < 1e-5);
-  CHECK(relative_residual(p.system.A, xs, p.b) < 1e-5);
-  CHECK((x - p.exact).norm() < 1e-4 * p.exact.norm());
-  CHECK((xs - x).norm() < 1e-5 * x.norm());
-  CHECK((xs - x).norm() > 0);  // really summed in float32
-  // Twice on the same right-hand side: the same answer (no state from the last solve).
-  Vec again(n);
-  factor.solve_single(p.b, again);
-  CHECK(again == xs);
+  Vec Rtb(n);
+  for (Index i = 0; i < n / 3; ++i) Rtb.segment<3>(3 * i) = R.transpose() * p.b.segment<3>(3 * i);
+  for (const size_t latency_bound_bytes : {BlockCholesky::kLatencyBoundBytes, size_t(0)}) {
+    BlockCholesky factor;
+    factor.factorize(p.system.A, latency_bound_bytes);
+    Vec plain(n), turned(n), turned_single(n);
+    factor.solve(Rtb, plain);
+    factor.solve(p.b, turned, &turn);
+    factor.solve_single(p.b, turned_single, &turn);
+    for (Index i = 0; i < n / 3; ++i) {
+      const Vec3 expected = R * plain.segment<3>(3 * i);
+      CHECK((turned.segment<3>(3 * i) - expected).norm() <= 1e-12 * plain.norm());
+      CHECK((turned_single.segment<3>(3 * i) - expected).norm() <= 1e-5 * plain.norm());
+    }
+  }
 }
 
 TEST(block_cholesky_orders_level_by_level_with_the_fill_of_amd) {
-  // The factor's order is AMD's rearranged by levels of the elimination tree: the same fill
-  // (nonzeros of L) as AMD's order, every node after all of its descendants, levels ascending.
+  // A small factor's order is AMD's rearranged by levels of the elimination tree: the same
+  // fill (nonzeros of L) as AMD's order, every node after all of its descendants, levels
+  // ascending.
   const fixtures::Mesh mesh = fixtures::tet_beam(8, 3, 3);
   const auto system = fixtures::implicit_system(mesh, Material{1e6, 0.3, 1000.0}, 0.01);
   const BlockSparseMatrix& A = system.A;
@@ -194,7 +226,11 @@ TEST(block_cholesky_orders_level_by_level_with_the_fill_of_amd) {
   Eigen::AMDOrdering<int>()(graph, amd);
   const std::vector<int> amd_order(amd.indices().data(), amd.indices().data() + n);
   const std::vector<int>& order = factor.order();
+  CHECK(factor.arranged_for_latency());
   CHECK(order != amd_order);  // rearranged on this mesh
+  BlockCholesky large;  // told it is too large to be arranged: AMD's order as it is
+  large.factorize(A, 0);
+  CHECK(!large.arranged_for_latency() && large.order() == amd_order);
   std::vector<int> sorted = order;
   std::sort(sorted.begin(), sorted.end());
   for (Index k = 0; k < n; ++k) CHECK(sorted[k] == k);  // a permutation

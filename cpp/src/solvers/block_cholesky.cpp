@@ -12,42 +12,6 @@ namespace corotate {
 
 namespace {
 
-// The elimination order `amd` (order[k] = node eliminated k-th) rearranged level by level
-// of its elimination tree: first every leaf, then every node whose children are all leaves,
-// and so on. A node's ancestors sit on higher levels, so the rearranged order is another
-// order of the same elimination tree: the same fill, the same factor up to where its
-// columns are stored. What it changes is the triangular solves: in AMD's postorder a column
-// is mostly followed by its parent, which waits for it (a chain of dependent loads, stores
-// and multiply-adds that the processor cannot overlap), while within a level no column
-// waits for another. Only the elimination tree's top (one node per level) stays a chain.
-std::vector<int> level_order(const std::vector<int>& start, const std::vector<int>& cols, const int* amd, Index n) {
-  std::vector<int> position(n);
-  for (Index k = 0; k < n; ++k) position[amd[k]] = static_cast<int>(k);
-  // Elimination tree of the node graph in AMD's order (Liu's algorithm with path compression).
-  std::vector<int> parent(n, -1), ancestor(n, -1);
-  for (Index k = 0; k < n; ++k) {
-    const int node = amd[k];
-    for (int e = start[node]; e < start[node + 1]; ++e) {
-      int i = position[cols[e]];
-      while (i != -1 && i < k) {
-        const int next = ancestor[i];
-        ancestor[i] = static_cast<int>(k);
-        if (next == -1) parent[i] = static_cast<int>(k);
-        i = next;
-      }
-    }
-  }
-  std::vector<int> level(n, 0);
-  for (Index k = 0; k < n; ++k)
-    if (parent[k] >= 0) level[parent[k]] = std::max(level[parent[k]], level[k] + 1);
-  std::vector<int> by_level(n);
-  for (Index k = 0; k < n; ++k) by_level[k] = static_cast<int>(k);
-  std::stable_sort(by_level.begin(), by_level.end(), [&](int a, int b) { return level[a] < level[b]; });
-  std::vector<int> order(n);
-  for (Index k = 0; k < n; ++k) order[k] = amd[by_level[k]];
-  return order;
-}
-
 // Node `node`'s entries of b, turned into the build frame of its aggregate when turning.
 COROTATE_CLONE_INLINE Vec3 read_in(const Vec& b, int node, const AggregateRotations* turn) {
   const Vec3 v = b.segment<3>(3 * node);
@@ -60,7 +24,7 @@ COROTATE_CLONE_INLINE void write_out(Vec& x, int node, const Vec3& v, const Aggr
 
 }  // namespace
 
-void BlockCholesky::factorize(const BlockSparseMatrix& A) {
+void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_bytes) {
   const Index n = A.num_nodes();
   const auto& start = A.row_start();
   const auto& cols = A.columns();
@@ -76,7 +40,7 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
   }
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse_permutation;
   Eigen::AMDOrdering<int>()(graph, inverse_permutation);
-  order_ = level_order(start, cols, inverse_permutation.indices().data(), n);
+  order_.assign(inverse_permutation.indices().data(), inverse_permutation.indices().data() + n);
   std::vector<int> position(n);
   for (Index k = 0; k < n; ++k) position[order_[k]] = static_cast<int>(k);
 
@@ -129,23 +93,12 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
     inverse_diagonal_[k] = diagonal.triangularView<Eigen::Lower>().solve(Mat3::Identity());
   }
   blocks_.resize(blocks_.size() + 3, 0.0f);
-  // The same blocks row by row for solve_single's forward sweep, each stored transposed (its
-  // rows, 3 r + c) so that a row of the block reads four wide like a column above.
-  row_start_.assign(n + 1, 0);
-  for (int row : rows_) ++row_start_[row + 1];
-  for (Index k = 0; k < n; ++k) row_start_[k + 1] += row_start_[k];
-  row_columns_.resize(rows_.size());
-  row_blocks_.assign(9 * rows_.size() + 3, 0.0f);
-  {
-    std::vector<int> next(row_start_.begin(), row_start_.end() - 1);
-    for (Index k = 0; k < n; ++k)  // columns ascending: each row's blocks come in column order
-      for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
-        const int q = next[rows_[p]]++;
-        row_columns_[q] = static_cast<int>(k);
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) row_blocks_[9 * q + 3 * r + c] = blocks_[9 * p + 3 * c + r];
-      }
-  }
+  // A factor that fits in a core's cache is arranged for latency (a larger one would then
+  // no longer fit, or lose the locality of AMD's postorder).
+  row_start_.clear();
+  row_columns_.clear();
+  row_blocks_.clear();
+  if (blocks_.size() * sizeof(float) <= latency_bound_bytes) arrange_for_latency();
   inverse_diagonal_single_.assign(24 * n, 0.0f);
   for (Index k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c)
@@ -157,22 +110,77 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A) {
   work_single_.assign(4 * n, 0.0f);
 }
 
+void BlockCholesky::arrange_for_latency() {
+  const Index n = static_cast<Index>(order_.size());
+  // 1. The positions level by level of the elimination tree: first every leaf, then every
+  // node whose children are all leaves, and so on (AMD's order within a level). A node's
+  // parent is the first block row below its diagonal, on a higher level, so the new order is
+  // another order of the same tree: the same factor, its columns stored elsewhere. In AMD's
+  // postorder a column is mostly followed by its parent, which waits for it (a chain of
+  // dependent loads, stores and multiply-adds that the processor cannot overlap); within a
+  // level no column waits for another. Only the tree's top (a node per level) stays a chain.
+  std::vector<int> level(n, 0);
+  for (Index k = 0; k < n; ++k) {
+    if (column_start_[k] == column_start_[k + 1]) continue;  // a root
+    const int parent = *std::min_element(rows_.begin() + column_start_[k], rows_.begin() + column_start_[k + 1]);
+    level[parent] = std::max(level[parent], level[k] + 1);
+  }
+  std::vector<int> by_level(n), position(n);
+  for (Index k = 0; k < n; ++k) by_level[k] = static_cast<int>(k);
+  std::stable_sort(by_level.begin(), by_level.end(), [&](int a, int b) { return level[a] < level[b]; });
+  for (Index k = 0; k < n; ++k) position[by_level[k]] = static_cast<int>(k);
+  {
+    std::vector<int> order(n), column_start(1, 0), rows;
+    std::vector<float> blocks;
+    std::vector<Mat3> inverse_diagonal(n);
+    rows.reserve(rows_.size());
+    blocks.reserve(blocks_.size());
+    for (Index m = 0; m < n; ++m) {
+      const int k = by_level[m];
+      order[m] = order_[k];
+      inverse_diagonal[m] = inverse_diagonal_[k];
+      for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+        rows.push_back(position[rows_[p]]);
+        blocks.insert(blocks.end(), blocks_.begin() + 9 * p, blocks_.begin() + 9 * p + 9);
+      }
+      column_start.push_back(static_cast<int>(rows.size()));
+    }
+    blocks.resize(blocks.size() + 3, 0.0f);
+    order_.swap(order), column_start_.swap(column_start), rows_.swap(rows), blocks_.swap(blocks);
+    inverse_diagonal_.swap(inverse_diagonal);
+  }
+  // 2. The blocks a second time, row by row, for solve_single's forward sweep.
+  row_start_.assign(n + 1, 0);
+  for (int row : rows_) ++row_start_[row + 1];
+  for (Index k = 0; k < n; ++k) row_start_[k + 1] += row_start_[k];
+  row_columns_.resize(rows_.size());
+  row_blocks_.assign(9 * rows_.size() + 3, 0.0f);
+  std::vector<int> next(row_start_.begin(), row_start_.end() - 1);
+  for (Index k = 0; k < n; ++k)  // columns ascending: each row's blocks come in column order
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+      const int q = next[rows_[p]]++;
+      row_columns_[q] = static_cast<int>(k);
+      for (int r = 0; r < 3; ++r)  // stored by rows: a row reads four wide like a column
+        for (int c = 0; c < 3; ++c) row_blocks_[9 * q + 3 * r + c] = blocks_[9 * p + 3 * c + r];
+    }
+}
+
 void BlockCholesky::solve(const Vec& b, Vec& x, const AggregateRotations* turn) {
   const Index n = static_cast<Index>(order_.size());
   double* w = work_.data();
   for (Index k = 0; k < n; ++k) Eigen::Map<Vec3>(w + 3 * k) = read_in(b, order_[k], turn);
 
-  // Forward: L y = b, row by row (pulling the solved values in: see solve_single).
+  // Forward: L y = b, column by column.
   for (Index k = 0; k < n; ++k) {
-    double t0 = w[3 * k], t1 = w[3 * k + 1], t2 = w[3 * k + 2];
-    for (int p = row_start_[k]; p < row_start_[k + 1]; ++p) {
-      const float* L = row_blocks_.data() + 9 * p;  // by rows
-      const double* yj = w + 3 * row_columns_[p];
-      t0 -= L[0] * yj[0] + L[1] * yj[1] + L[2] * yj[2];
-      t1 -= L[3] * yj[0] + L[4] * yj[1] + L[5] * yj[2];
-      t2 -= L[6] * yj[0] + L[7] * yj[1] + L[8] * yj[2];
+    const Vec3 y = inverse_diagonal_[k] * Eigen::Map<const Vec3>(w + 3 * k);
+    Eigen::Map<Vec3>(w + 3 * k) = y;
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+      const float* L = blocks_.data() + 9 * p;
+      double* wi = w + 3 * rows_[p];
+      wi[0] -= L[0] * y[0] + L[3] * y[1] + L[6] * y[2];
+      wi[1] -= L[1] * y[0] + L[4] * y[1] + L[7] * y[2];
+      wi[2] -= L[2] * y[0] + L[5] * y[1] + L[8] * y[2];
     }
-    Eigen::Map<Vec3>(w + 3 * k) = inverse_diagonal_[k] * Vec3(t0, t1, t2);
   }
   // Backward: L^T x = y, row of L^T = column of L.
   for (Index k = n - 1; k >= 0; --k) {
@@ -204,14 +212,12 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x, const
     const Vec3 bk = read_in(b, order_[k], turn);
     store4(w + 4 * k, V{float(bk[0]), float(bk[1]), float(bk[2]), 0.0f});
   }
-  // Both sweeps pull: a node's new value is its own right-hand side minus the products of
+  // A pulling sweep: a node's new value is its own right-hand side minus the products of
   // 3x3 blocks with values already solved, summed in registers (two sets of sums, even and
   // odd blocks, so that a block's multiply-adds do not wait for the last block's) and
-  // stored once. Pushing each solved value into the entries that still wait for it (the
-  // column sweep) is a load, subtract and store of the same entry by block after block,
-  // each waiting for the store before it. Each block row times x_i is taken lane-wise and
-  // summed across three lanes once; a row read four wide takes the next value along into
-  // the fourth lane, which meets x_i's fourth lane, 0.
+  // stored once. Each block row times x_i is taken lane-wise and summed across three lanes
+  // once; a row read four wide takes the next value along into the fourth lane, which meets
+  // x_i's fourth lane, 0.
   const auto dot_blocks = [w](const float* values, const int* index, int p, int end, float out[3]) {
     V a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0, c0 = a0, c1 = a0, c2 = a0;
     const auto add_block = [&](int q, V& s0, V& s1, V& s2) {
@@ -228,17 +234,39 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x, const
     if (p < end) add_block(p, a0, a1, a2);
     out[0] = sum3(a0 + c0), out[1] = sum3(a1 + c1), out[2] = sum3(a2 + c2);
   };
-  // Forward: L y = b; y_k = L_kk^-1 (b_k - sum_j<k L_kj y_j) over row k's blocks.
-  const float* row_blocks = row_blocks_.data();
-  const int* row_columns = row_columns_.data();
-  const int* row_start = row_start_.data();
-  for (Index k = 0; k < n; ++k) {
-    float s[3];
-    dot_blocks(row_blocks, row_columns, row_start[k], row_start[k + 1], s);
-    const float* wk = w + 4 * k;
-    const float t0 = wk[0] - s[0], t1 = wk[1] - s[1], t2 = wk[2] - s[2];
-    const float* d = diagonal + 24 * k;
-    store4(w + 4 * k, t0 * load4(d) + t1 * load4(d + 4) + t2 * load4(d + 8));
+  if (!row_start_.empty()) {
+    // Forward: L y = b pulling, y_k = L_kk^-1 (b_k - sum_j<k L_kj y_j) over row k's blocks.
+    // Pushing each solved y_k into the entries that still wait for it (the column sweep
+    // below) is a load, subtract and store of the same entry by block after block, each
+    // waiting for the store before: on a factor in cache that chain, not the bytes, is
+    // what a sweep waits for.
+    const float* row_blocks = row_blocks_.data();
+    const int* row_columns = row_columns_.data();
+    const int* row_start = row_start_.data();
+    for (Index k = 0; k < n; ++k) {
+      float s[3];
+      dot_blocks(row_blocks, row_columns, row_start[k], row_start[k + 1], s);
+      const float* wk = w + 4 * k;
+      const float t0 = wk[0] - s[0], t1 = wk[1] - s[1], t2 = wk[2] - s[2];
+      const float* d = diagonal + 24 * k;
+      store4(w + 4 * k, t0 * load4(d) + t1 * load4(d + 4) + t2 * load4(d + 8));
+    }
+  } else {
+    // Forward: L y = b, column by column; y_k = L_kk^-1 w_k, then w_i -= L_ik y_k, each block
+    // as its three columns times y_k's entries. A column's fourth lane (the next value in
+    // memory) only ever lands in w_i's fourth, which no sum reads, and y_k's fourth is 0.
+    for (Index k = 0; k < n; ++k) {
+      const V wk = load4(w + 4 * k);
+      const float* d = diagonal + 24 * k;
+      const V y = wk[0] * load4(d) + wk[1] * load4(d + 4) + wk[2] * load4(d + 8);
+      store4(w + 4 * k, y);
+      const float y0 = y[0], y1 = y[1], y2 = y[2];  // a scalar times a vector: a broadcast
+      for (int p = column_start[k], end = column_start[k + 1]; p < end; ++p) {
+        const float* L = blocks + 9 * p;
+        float* wi = w + 4 * rows[p];
+        store4(wi, load4(wi) - (load4(L) * y0 + load4(L + 3) * y1 + load4(L + 6) * y2));
+      }
+    }
   }
   // Backward: L^T x = y; x_k = L_kk^-T (y_k - sum_i>k L_ik^T x_i) over column k's blocks
   // (column c of L_ik dotted with x_i).

@@ -1,18 +1,19 @@
 // A sparse Cholesky factor A = L L^T of a 3x3-block matrix, stored for fast repeated solves.
 //
 // The nodes are ordered by AMD on the node graph so that each node's three DOFs stay
-// together, then level by level of the elimination tree (the same fill; see level_order in
-// the .cpp); Eigen's SimplicialLLT factorizes the permuted matrix, and the factor is then
+// together; Eigen's SimplicialLLT factorizes the permuted matrix, and the factor is then
 // repacked as 3x3 blocks in single precision (the off-diagonal blocks) with inverted
 // diagonal blocks in double. A solve reads 9 floats and one index per block instead of
 // 9 doubles and 9 indices: on large factors the triangular solves are memory bound, so this
 // is what makes a reused factorization cheap enough to precondition every step. Single
 // precision is ample for a preconditioner: CG still converges to the tolerance it is given.
-// The off-diagonal blocks are kept twice, by columns for the backward sweep and by rows for
-// the forward one, so that both sweeps sum in registers (on small factors, which fit in
-// cache, the solves are bound by the latency of their dependent operations instead).
+// Small factors, which fit in cache, are bound by the latency of dependent operations instead
+// of bytes: they are arranged for it (arrange_for_latency: columns level by level of the
+// elimination tree, the blocks kept by rows too so that both sweeps of solve_single sum in
+// registers).
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "corotate/solvers/aggregate_rotations.hpp"
@@ -22,8 +23,12 @@ namespace corotate {
 
 class BlockCholesky {
  public:
+  // Factors of up to this many bytes of off-diagonal blocks are arranged for latency.
+  static constexpr size_t kLatencyBoundBytes = 256 * 1024;
   // Factorizes A (symmetric positive definite); throws SolverFailure otherwise.
-  void factorize(const BlockSparseMatrix& A);
+  // latency_bound_bytes: the largest factor arranged for latency (a test sets it to reach
+  // both arrangements).
+  void factorize(const BlockSparseMatrix& A, size_t latency_bound_bytes = kLatencyBoundBytes);
   bool empty() const { return order_.empty(); }
   // x = A^-1 b (approximately: single-precision factor). x and b: num_dofs. With `turn`,
   // x = R A^-1 R^T b instead, R the rotations of turn's aggregates node by node (the
@@ -38,8 +43,11 @@ class BlockCholesky {
   Index factor_blocks() const { return static_cast<Index>(rows_.size()); }
   // The elimination order: order()[k] is the node eliminated k-th.
   const std::vector<int>& order() const { return order_; }
+  // Whether it was arranged for latency (a small factor).
+  bool arranged_for_latency() const { return !row_start_.empty(); }
 
  private:
+  void arrange_for_latency();
   std::vector<int> order_;             // order_[k] = node placed at position k
   std::vector<int> column_start_;      // block column k: off-diagonal blocks [start[k], start[k+1])
   std::vector<int> rows_;              // block row (position) of each off-diagonal block
@@ -47,7 +55,8 @@ class BlockCholesky {
   // column read four wide takes the next value along (solve_single keeps it out of its sums).
   std::vector<float> blocks_;
   // The off-diagonal blocks again, row by row (row k's from row_start_[k], with their block
-  // columns), each stored by rows (entry (r, c) at 3 r + c), then 3 zeros.
+  // columns), each stored by rows (entry (r, c) at 3 r + c), then 3 zeros; empty for a
+  // factor not arranged for latency.
   std::vector<int> row_start_, row_columns_;
   std::vector<float> row_blocks_;
   std::vector<Mat3> inverse_diagonal_; // L_kk^-1 (lower triangular)
