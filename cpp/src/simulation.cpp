@@ -54,15 +54,8 @@ Simulation::Claim::Claim(const Simulation& sim, const char* what) : busy_(sim.bu
 
 void Simulation::check_health(StepStats& st) {
   if (failure_policy_ == FailurePolicy::Ignore) return;
-  std::ostringstream problem;
   st.solver_stalled = !st.solve.converged && st.solve.iterations > 0 && st.solve.relative_residual >= 1;
-  if (st.solver_stalled)
-    problem << "the linear solve stalled at its iteration cap (relative residual " << st.solve.relative_residual
-            << " >= 1): raise the PCG iteration cap or use a stronger preconditioner";
-  if (st.start_inverted > 0)
-    problem << (problem.tellp() > 0 ? "; " : "") << st.start_inverted
-            << " elements were inverted or flat at the start of the step (det F <= 0): the load or the time step is "
-               "too large for this mesh, or the material too soft";
+  double growth_percent = 0;
   if (std::isfinite(st.start_energy)) {
     // Total energy of the start state, and whether anything drove the body since the last one.
     double kinetic = 0;
@@ -77,11 +70,7 @@ void Simulation::check_health(StepStats& st) {
     // run-away (a mode growing by 0.5 % per step, bench/README.md) never grows 1 % in one
     // step while its energy is small, but its total climbs above the lowest within tens of steps.
     st.energy_growth = !driven && total - energy_check_.lowest > 1e-2 * size;
-    if (st.energy_growth)
-      problem << (problem.tellp() > 0 ? "; " : "") << "the total energy grew by "
-              << 100 * (total - energy_check_.lowest) / size
-              << " % (of its size) above the lowest it reached while nothing drove the body: a run-away (too few PCG "
-                 "iterations, or a time step too large for the linearised step)";
+    growth_percent = 100 * (total - energy_check_.lowest) / size;
     energy_check_.valid = true;
     energy_check_.lowest = driven ? total : std::min(energy_check_.lowest, total);
     if (new_load) {  // (copied only when it changed: a step's load is the last one's as a rule)
@@ -90,7 +79,20 @@ void Simulation::check_health(StepStats& st) {
     }
     energy_check_.attachments_version = attachments_.version();
   }
-  if (problem.tellp() > 0 && failure_policy_ == FailurePolicy::Raise) {
+  if (failure_policy_ == FailurePolicy::Raise && (st.solver_stalled || st.start_inverted > 0 || st.energy_growth)) {
+    // The message only for a step that fails (a stream costs a microsecond or so to build).
+    std::ostringstream problem;
+    if (st.solver_stalled)
+      problem << "the linear solve stalled at its iteration cap (relative residual " << st.solve.relative_residual
+              << " >= 1): raise the PCG iteration cap or use a stronger preconditioner";
+    if (st.start_inverted > 0)
+      problem << (problem.tellp() > 0 ? "; " : "") << st.start_inverted
+              << " elements were inverted or flat at the start of the step (det F <= 0): the load or the time step "
+                 "is too large for this mesh, or the material too soft";
+    if (st.energy_growth)
+      problem << (problem.tellp() > 0 ? "; " : "") << "the total energy grew by " << growth_percent
+              << " % (of its size) above the lowest it reached while nothing drove the body: a run-away (too few PCG "
+                 "iterations, or a time step too large for the linearised step)";
     std::ostringstream msg;
     msg << "step " << stats_.steps + 1 << ": " << problem.str() << "; the state was restored (failure policy 'raise')";
     throw SolverFailure(msg.str());
