@@ -130,7 +130,7 @@ void check_float32_assembly(int nx, int ny, int nz, bool several_chunks) {
   step.model = make_model("corotational", "tetra", mesh.points, mesh.cells, kMaterial);
   CHECK(step.model->assembles_single_precision());
   const BlockSparseMatrix& pattern = step.model->pattern();
-  CHECK(pattern.num_chunks() > 1 == several_chunks);
+  CHECK((pattern.num_chunks() > 1) == several_chunks);
   step.mass = step.model->mass_matrix(false);
   std::vector<char> fixed(pattern.num_dofs(), 0);
   for (int d = 0; d < 3 * 25; ++d) fixed[d] = 1;  // the nodes at x = 0

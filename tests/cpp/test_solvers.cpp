@@ -7,9 +7,9 @@
 #include <cmath>
 #include <string>
 
-#include "corotate/solvers/aggregate_rotations.hpp"
 #include "corotate/solvers/block_cholesky.hpp"
 #include "corotate/solvers/direct_solver.hpp"
+#include "corotate/solvers/node_rotations.hpp"
 #include "corotate/solvers/pcg.hpp"
 #include "corotate/solvers/two_level_preconditioner.hpp"
 #include "corotate/sparse/single_precision_symmetric.hpp"
@@ -163,29 +163,60 @@ TEST(block_cholesky_solves_in_double_and_in_float32_sums) {
 }
 
 TEST(block_cholesky_turned_solve_is_the_rotated_solve) {
-  // solve(b, x, turn) = R A^-1 R^T b, R the aggregates' rotations node by node.
+  // solve(b, x, turn) = R A^-1 R^T b, R = diag(turn[i]): one rotation per node.
   const Problem p;
-  AggregateRotations turn;
-  turn.build(p.system.A, p.mesh.points);
-  const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
-  turn.update(R * p.mesh.points);  // turned rigidly: every aggregate by R
-  CHECK(turn.rotated());
-  const Index n = p.b.size();
+  const Index n = p.b.size(), nodes = n / 3;
+  std::vector<Mat3> turn(nodes);
   Vec Rtb(n);
-  for (Index i = 0; i < n / 3; ++i) Rtb.segment<3>(3 * i) = R.transpose() * p.b.segment<3>(3 * i);
+  for (Index i = 0; i < nodes; ++i) {
+    turn[i] = Eigen::AngleAxisd(0.1 * double(i), Vec3(1, 2, 3 + double(i)).normalized()).toRotationMatrix();
+    Rtb.segment<3>(3 * i) = turn[i].transpose() * p.b.segment<3>(3 * i);
+  }
   for (const size_t latency_bound_bytes : {BlockCholesky::kLatencyBoundBytes, size_t(0)}) {
     BlockCholesky factor;
     factor.factorize(p.system.A, latency_bound_bytes);
     Vec plain(n), turned(n), turned_single(n);
     factor.solve(Rtb, plain);
-    factor.solve(p.b, turned, &turn);
-    factor.solve_single(p.b, turned_single, &turn);
-    for (Index i = 0; i < n / 3; ++i) {
-      const Vec3 expected = R * plain.segment<3>(3 * i);
+    factor.solve(p.b, turned, turn.data());
+    factor.solve_single(p.b, turned_single, turn.data());
+    for (Index i = 0; i < nodes; ++i) {
+      const Vec3 expected = turn[i] * plain.segment<3>(3 * i);
       CHECK((turned.segment<3>(3 * i) - expected).norm() <= 1e-12 * plain.norm());
       CHECK((turned_single.segment<3>(3 * i) - expected).norm() <= 1e-5 * plain.norm());
     }
   }
+}
+
+TEST(node_rotations_follow_each_stencil) {
+  // A rigid rotation turns every node's stencil by it; a twist about the beam's axis turns
+  // each cross-section by its own angle, and the nodes there by about that angle.
+  const Problem p;
+  NodeRotations rotations;
+  rotations.build(p.system.A, p.mesh.points);
+  CHECK(!rotations.rotated());
+  const Mat3 R = Eigen::AngleAxisd(2.5, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
+  rotations.update(R * p.mesh.points);
+  CHECK(rotations.rotated());
+  for (const Mat3& Ri : rotations.rotations()) CHECK((Ri - R).norm() < 1e-10);
+  Nodes twisted = p.mesh.points;
+  const double length = p.mesh.points.row(0).maxCoeff();
+  for (Index i = 0; i < twisted.cols(); ++i) {
+    const double angle = 0.6 * p.mesh.points(0, i) / length;  // about x, growing along it
+    twisted.col(i) = Eigen::AngleAxisd(angle, Vec3::UnitX()) * p.mesh.points.col(i);
+  }
+  rotations.build(p.system.A, p.mesh.points);
+  rotations.update(twisted);
+  double worst = 0;
+  for (Index i = 0; i < twisted.cols(); ++i) {
+    const Eigen::AngleAxisd turned(rotations.rotations()[i]);
+    const double expected = 0.6 * p.mesh.points(0, i) / length;
+    worst = std::max(worst, std::abs(turned.angle() * turned.axis().x() - expected));
+  }
+  // Off by less than the twist across one of the beam's four cells (a stencil's reach): an
+  // end node's stencil lies on one side of it. Without the rotations, 0.6 off at the far end.
+  CHECK(worst < 0.6 / 4);
+  Nodes wrong(3, twisted.cols() + 1);
+  CHECK_THROWS(rotations.update(wrong), InvalidInput);
 }
 
 TEST(block_cholesky_orders_level_by_level_with_the_fill_of_amd) {

@@ -21,6 +21,7 @@ namespace {
 
 constexpr int kMaxIterations = 20;
 constexpr double kConvergedStep = 1e-6;  // quadratic: the remaining error is ~1e-12
+constexpr double kRoughStep = 1e-3;      // extract_rotations_roughly's: ~1e-6
 
 // W problems side by side, structure of arrays: A = F / |F| (row-major, a[3 i + j][lane]),
 // the quaternion (w, x, y, z) and the angle of the last step.
@@ -156,14 +157,22 @@ constexpr int kMaxLockstepIterations = 4;
 constexpr int kBatch = 16;
 static_assert(kBatch >= kRotationLanes, "a sweep's batch of rotations fits one lockstep batch");
 
-// Whether a lane of the first n still moves (a finite last step of kConvergedStep or more).
+// Whether a lane of the first n still moves (a finite last step of `converged` or more).
 template <int W>
-COROTATE_CLONE_INLINE bool any_lane_moving(const Lanes<W>& L, const bool* ok, int n) {
+COROTATE_CLONE_INLINE bool any_lane_moving(const Lanes<W>& L, const bool* ok, int n, double converged) {
   bool moving = false;
   for (int l = 0; l < n; ++l)
-    moving |= ok[l] & (L.angle[l] >= kConvergedStep) & (L.angle[l] <= std::numeric_limits<double>::max());
+    moving |= ok[l] & (L.angle[l] >= converged) & (L.angle[l] <= std::numeric_limits<double>::max());
   return moving;
 }
+
+// How far extract_batches iterates: at least `lockstep` iterations, then on while a lane's
+// last step turned `converged` radians or more (the error left is about its square).
+struct Accuracy {
+  int lockstep;
+  double converged;
+};
+constexpr Accuracy kRoundOff{kLockstepIterations, kConvergedStep};
 
 }  // namespace
 
@@ -190,15 +199,15 @@ namespace {
 // stride via the lambda), fallback(k) solves problem k alone (those that did not converge).
 template <class FEntry, class Store, class Fallback>
 COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* q, const Store& store,
-                                           const Fallback& fallback, int count) {
+                                           const Fallback& fallback, int count, Accuracy accuracy = kRoundOff) {
   for (int first = 0; first < count; first += kBatch) {
     const int n = std::min(kBatch, count - first);
     Lanes<kBatch> L;
     bool ok[kBatch];
     load_lanes(L, ok, [&](int k, int i, int j) { return F(first + k, i, j); }, q + first, n);
     int it = 0;
-    for (; it < kLockstepIterations; ++it) newton_iteration(L);
-    for (; it < kMaxLockstepIterations && any_lane_moving(L, ok, n); ++it) newton_iteration(L);
+    for (; it < accuracy.lockstep; ++it) newton_iteration(L);
+    for (; it < kMaxLockstepIterations && any_lane_moving(L, ok, n, accuracy.converged); ++it) newton_iteration(L);
     double r[9][kBatch];
     lane_rotations(L, r);
     for (int l = 0; l < n; ++l) {
@@ -208,7 +217,7 @@ COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* 
         double rk[9];
         for (int c = 0; c < 9; ++c) rk[c] = R(c / 3, c % 3);
         store(k, rk, 1);
-      } else if (L.angle[l] < kConvergedStep) {
+      } else if (L.angle[l] < accuracy.converged) {
         q[k] = lane_quaternion(L, l);
         store(k, &r[0][l], kBatch);
       } else {  // not there yet (a large rotation since the last call, or no finite step)
@@ -227,6 +236,14 @@ COROTATE_CPU_CLONES void extract_rotations(const Mat3* F, Eigen::Quaterniond* q,
                     for (int c = 0; c < 9; ++c) R[k](c / 3, c % 3) = r[c * stride];
                   },
                   [&](int k) { R[k] = extract_rotation(F[k], q[k]); }, count);
+}
+
+COROTATE_CPU_CLONES void extract_rotations_roughly(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count) {
+  extract_batches([F](int k, int i, int j) { return F[k](i, j); }, q,
+                  [R](int k, const double* r, int stride) {
+                    for (int c = 0; c < 9; ++c) R[k](c / 3, c % 3) = r[c * stride];
+                  },
+                  [&](int k) { R[k] = extract_rotation(F[k], q[k]); }, count, Accuracy{1, kRoughStep});
 }
 
 COROTATE_CPU_CLONES void extract_rotations(const double (&F)[3][3][kRotationLanes], Eigen::Quaterniond* q,

@@ -12,14 +12,14 @@ namespace corotate {
 
 namespace {
 
-// Node `node`'s entries of b, turned into the build frame of its aggregate when turning.
-COROTATE_CLONE_INLINE Vec3 read_in(const Vec& b, int node, const AggregateRotations* turn) {
+// Node `node`'s entries of b, turned back by the node's rotation when turning.
+COROTATE_CLONE_INLINE Vec3 read_in(const Vec& b, int node, const Mat3* turn) {
   const Vec3 v = b.segment<3>(3 * node);
-  return turn ? Vec3(turn->rotation(turn->aggregate_of_node()[node]).transpose() * v) : v;
+  return turn ? Vec3(turn[node].transpose() * v) : v;
 }
 
-COROTATE_CLONE_INLINE void write_out(Vec& x, int node, const Vec3& v, const AggregateRotations* turn) {
-  x.segment<3>(3 * node) = turn ? Vec3(turn->rotation(turn->aggregate_of_node()[node]) * v) : v;
+COROTATE_CLONE_INLINE void write_out(Vec& x, int node, const Vec3& v, const Mat3* turn) {
+  x.segment<3>(3 * node) = turn ? Vec3(turn[node] * v) : v;
 }
 
 }  // namespace
@@ -165,7 +165,7 @@ void BlockCholesky::arrange_for_latency() {
     }
 }
 
-void BlockCholesky::solve(const Vec& b, Vec& x, const AggregateRotations* turn) {
+void BlockCholesky::solve(const Vec& b, Vec& x, const Mat3* turn) {
   const Index n = static_cast<Index>(order_.size());
   double* w = work_.data();
   for (Index k = 0; k < n; ++k) Eigen::Map<Vec3>(w + 3 * k) = read_in(b, order_[k], turn);
@@ -197,7 +197,7 @@ void BlockCholesky::solve(const Vec& b, Vec& x, const AggregateRotations* turn) 
   for (Index k = 0; k < n; ++k) write_out(x, order_[k], Eigen::Map<const Vec3>(w + 3 * k), turn);
 }
 
-COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x, const AggregateRotations* turn) {
+COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x, const Mat3* turn) {
   using V = Four<float>::type;
   const auto store4 = [](float* p, V v) { std::memcpy(p, &v, sizeof v); };
   const Index n = static_cast<Index>(order_.size());

@@ -93,7 +93,7 @@ void ReferenceFactorPreconditioner::compute_assembled() {
 
 void ReferenceFactorPreconditioner::apply(const Vec& r, Vec& z) {
   // Where CG multiplies in float32 (a loose tolerance) the factor sums in float32 too.
-  const AggregateRotations* turn = rotations_.rotated() ? &rotations_ : nullptr;
+  const Mat3* turn = rotations_.rotated() ? rotations_.rotations().data() : nullptr;
   single_ ? factor_.solve_single(r, z, turn) : factor_.solve(r, z, turn);
 }
 

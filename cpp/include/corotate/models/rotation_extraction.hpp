@@ -22,6 +22,10 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q);
 // elements run side by side, vectorised, which is several times faster per element than one
 // call each (one element's iteration is a serial chain of dependent operations).
 void extract_rotations(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count);
+// The same to about 1e-6 rad instead of round-off, for rotations that only need to be close
+// (a preconditioner's frames): from a warm start that moved less than ~1e-3 rad since the
+// last call, one iteration instead of two.
+void extract_rotations_roughly(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count);
 // The same in structure-of-arrays form, F[i][j][k] and R[i][j][k] for problem k < count <=
 // kRotationLanes: for a batched element sweep that keeps its elements in lanes throughout.
 inline constexpr int kRotationLanes = 16;

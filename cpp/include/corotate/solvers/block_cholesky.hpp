@@ -16,7 +16,6 @@
 #include <cstddef>
 #include <vector>
 
-#include "corotate/solvers/aggregate_rotations.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
@@ -30,16 +29,16 @@ class BlockCholesky {
   // both arrangements).
   void factorize(const BlockSparseMatrix& A, size_t latency_bound_bytes = kLatencyBoundBytes);
   bool empty() const { return order_.empty(); }
-  // x = A^-1 b (approximately: single-precision factor). x and b: num_dofs. With `turn`,
-  // x = R A^-1 R^T b instead, R the rotations of turn's aggregates node by node (the
-  // reference factor turned with the body), applied as the right-hand side is read in and
-  // the solution written out.
-  void solve(const Vec& b, Vec& x, const AggregateRotations* turn = nullptr);
+  // x = A^-1 b (approximately: single-precision factor). x and b: num_dofs. With `turn`
+  // (one rotation per node), x = R A^-1 R^T b instead, R = diag(turn[i]) (the reference
+  // factor turned with the body), applied as the right-hand side is read in and the solution
+  // written out.
+  void solve(const Vec& b, Vec& x, const Mat3* turn = nullptr);
   // The same with the sums in float32 too (the work vector four floats per node: every block
   // is three four-wide multiply-adds, where the double sums convert each of its nine
   // values): for a preconditioner of CG at a loose tolerance, which multiplies in float32
   // anyway (relative 1e-7 of a solve that aims at 1e-2).
-  void solve_single(const Vec& b, Vec& x, const AggregateRotations* turn = nullptr);
+  void solve_single(const Vec& b, Vec& x, const Mat3* turn = nullptr);
   Index factor_blocks() const { return static_cast<Index>(rows_.size()); }
   // The elimination order: order()[k] is the node eliminated k-th.
   const std::vector<int>& order() const { return order_; }

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "corotate/solvers/aggregate_rotations.hpp"
 #include "corotate/solvers/block_cholesky.hpp"
+#include "corotate/solvers/node_rotations.hpp"
 #include "corotate/sparse/single_precision_symmetric.hpp"
 
 namespace corotate {
@@ -90,9 +90,9 @@ class BlockJacobiPreconditioner final : public Preconditioner {
 // body stays spectrally close to it once the body's rotation is taken out, so CG needs few
 // iterations while a step costs two triangular solves instead of a factorization.
 // Given the positions each system is assembled at (set_positions), the factor is applied in
-// each aggregate's turned frame, z = R B0 R^T r (aggregate_rotations.hpp): without that, a
-// body that swings or spins through a large angle (the armadillo hanging from a point) made
-// the frozen factor a poor fit and the capped CG ran away.
+// each node's turned frame, z = R B0 R^T r (node_rotations.hpp): without that, a body that
+// swings or spins through a large angle (the armadillo hanging from a point) made the frozen
+// factor a poor fit and the capped CG ran away.
 // When a solve still ends at its cap, the next one factorizes its own matrix afresh (and
 // measures rotations from there): the body has changed more than rotations explain (large
 // strains, a crumpling sheet whose matrix may be indefinite, which the factorization then
@@ -101,7 +101,7 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
  public:
   void reset() override {
     factor_ = BlockCholesky();
-    rotations_ = AggregateRotations();
+    rotations_ = NodeRotations();
   }
   void set_positions(const Nodes& x) override {
     positions_ = x;  // no allocation once sized
@@ -130,7 +130,7 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   BlockCholesky factor_;
   bool refresh_ = false;
   int factorizations_ = 0;
-  AggregateRotations rotations_;  // empty until positions arrive at the build
+  NodeRotations rotations_;  // empty until positions arrive at the build
   Nodes positions_;
   bool positions_pending_ = false;
   SinglePrecisionSymmetric A_single_;
