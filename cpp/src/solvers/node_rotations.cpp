@@ -1,7 +1,5 @@
 #include "corotate/solvers/node_rotations.hpp"
 
-#include <cstring>
-
 #include "corotate/cpu_clones.hpp"
 #include "corotate/models/rotation_extraction.hpp"
 #include "corotate/sparse/symmetric_product.hpp"  // Four
