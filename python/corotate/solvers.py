@@ -31,8 +31,9 @@ class PCG:
                     smoothing plus a coarse correction factorized once, turned with each
                     aggregate's rotation as the body moves),
                     "reference_factor" (Cholesky factor of the first step's system matrix,
-                    reused, applied in each aggregate's turned frame, factorized afresh
-                    after a solve that ends at the cap), "block_jacobi" (3x3 node blocks),
+                    reused, applied in each node's turned frame (the rotation of the
+                    node and its neighbours), factorized afresh after a solve that ends
+                    at the cap), "block_jacobi" (3x3 node blocks),
                     "jacobi" or "none"
     warm_start      start each solve from the previous step's answer
 
