@@ -230,20 +230,26 @@ COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* 
 
 }  // namespace
 
-COROTATE_CPU_CLONES void extract_rotations(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count) {
+namespace {
+
+// The batched iterations on count 3x3 matrices to the given accuracy.
+COROTATE_CLONE_INLINE void extract_matrices(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count,
+                                            Accuracy accuracy) {
   extract_batches([F](int k, int i, int j) { return F[k](i, j); }, q,
                   [R](int k, const double* r, int stride) {
                     for (int c = 0; c < 9; ++c) R[k](c / 3, c % 3) = r[c * stride];
                   },
-                  [&](int k) { R[k] = extract_rotation(F[k], q[k]); }, count);
+                  [&](int k) { R[k] = extract_rotation(F[k], q[k]); }, count, accuracy);
+}
+
+}  // namespace
+
+COROTATE_CPU_CLONES void extract_rotations(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count) {
+  extract_matrices(F, q, R, count, kRoundOff);
 }
 
 COROTATE_CPU_CLONES void extract_rotations_roughly(const Mat3* F, Eigen::Quaterniond* q, Mat3* R, int count) {
-  extract_batches([F](int k, int i, int j) { return F[k](i, j); }, q,
-                  [R](int k, const double* r, int stride) {
-                    for (int c = 0; c < 9; ++c) R[k](c / 3, c % 3) = r[c * stride];
-                  },
-                  [&](int k) { R[k] = extract_rotation(F[k], q[k]); }, count, Accuracy{1, kRoughStep});
+  extract_matrices(F, q, R, count, Accuracy{1, kRoughStep});
 }
 
 COROTATE_CPU_CLONES void extract_rotations(const double (&F)[3][3][kRotationLanes], Eigen::Quaterniond* q,

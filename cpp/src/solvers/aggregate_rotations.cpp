@@ -1,7 +1,6 @@
 #include "corotate/solvers/aggregate_rotations.hpp"
 
 #include "corotate/models/rotation_extraction.hpp"
-#include "corotate/parallel.hpp"
 
 namespace corotate {
 
@@ -65,22 +64,6 @@ void AggregateRotations::update(const Nodes& x) {
   extract_rotations(covariance_.data(), rotation_guess_.data(), rotations_.data(), static_cast<int>(m));
   rotated_ = false;
   for (Index a = 0; a < m; ++a) rotated_ = rotated_ || !rotations_[a].isIdentity(1e-12);
-}
-
-void AggregateRotations::to_built_frame(const Vec& v, Vec& out) const {
-  const Index n = static_cast<Index>(aggregate_.size());
-  parallel_for(n, n >= 512, [&](Index i) {
-    const Vec3 vi = v.segment<3>(3 * i);
-    out.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]].transpose() * vi;
-  });
-}
-
-void AggregateRotations::from_built_frame(const Vec& v, Vec& out) const {
-  const Index n = static_cast<Index>(aggregate_.size());
-  parallel_for(n, n >= 512, [&](Index i) {
-    const Vec3 vi = v.segment<3>(3 * i);
-    out.segment<3>(3 * i).noalias() = rotations_[aggregate_[i]] * vi;
-  });
 }
 
 }  // namespace corotate

@@ -1,14 +1,15 @@
 // How far each part of a body has turned since a preconditioner was built.
 //
-// Preconditioners built once from the first system they see (a factor of A0, a coarse
-// level) are right only near the configuration they were built at. When the body turns,
+// Preconditioners built once from the first system they see (here: the two-level one's
+// coarse level; the reference factor turns node by node, node_rotations.hpp) are right only
+// near the configuration they were built at. When the body turns,
 // the system becomes about R A0 R^T (exactly, for a rigid rotation R: the mass is isotropic
 // and the co-rotational stiffness turns with the body), and a frozen A0^-1 no longer fits.
 // This class groups the nodes into aggregates (a node and its neighbours in the matrix
 // pattern), finds each aggregate's rotation from the build configuration by shape matching
-// (the polar rotation of sum_i x_i (X_i - c)^T over its nodes), and turns vectors into and
-// out of the build frame node by node. A preconditioner B0 ~ A0^-1 then becomes
-// R B0 R^T, exact again after a rigid rotation.
+// (the polar rotation of sum_i x_i (X_i - c)^T over its nodes); the preconditioner turns
+// vectors into and out of the build frame node by node with them. A preconditioner
+// B0 ~ A0^-1 then becomes R B0 R^T, exact again after a rigid rotation.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -35,10 +36,6 @@ class AggregateRotations {
   // Rotations from the positions x (3 x n) by shape matching, warm-started from the last
   // ones. A one-node aggregate or a non-finite covariance keeps its previous rotation.
   void update(const Nodes& x);
-  // out_i = R_a(i)^T v_i (into the build frame) and out_i = R_a(i) v_i (back); v, out: 3n.
-  // out may alias v.
-  void to_built_frame(const Vec& v, Vec& out) const;
-  void from_built_frame(const Vec& v, Vec& out) const;
 
  private:
   std::vector<int> aggregate_;                      // aggregate of each node
