@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "corotate/common.hpp"
-#include "corotate/elements/hex8.hpp"
+#include "corotate/meshes/structured_box.hpp"
 
 namespace corotate::bench {
 
@@ -45,58 +45,30 @@ inline std::vector<int> parse_sizes(const std::string& list) {
   return sizes;
 }
 
-struct TetMesh {
-  Nodes points;
-  Connectivity cells;
-};
+// A benchmark mesh: points, cells and their cell type (the generator's, or "tetra" from TetGen).
+using TetMesh = StructuredMesh;
 
-// nx x ny x nz cubes over [0, lx] x [0, ly] x [0, lz], each cut into 6 tets that share the
-// cube's main diagonal (Kuhn split, conforming across cubes).
-inline TetMesh structured_tet_beam(int nx, int ny, int nz, double lx, double ly, double lz) {
-  TetMesh m;
-  auto id = [&](int i, int j, int k) { return (i * (ny + 1) + j) * (nz + 1) + k; };
-  m.points.resize(3, (nx + 1) * (ny + 1) * (nz + 1));
-  for (int i = 0; i <= nx; ++i)
-    for (int j = 0; j <= ny; ++j)
-      for (int k = 0; k <= nz; ++k) m.points.col(id(i, j, k)) = Vec3(lx * i / nx, ly * j / ny, lz * k / nz);
-  static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  m.cells.resize(6 * nx * ny * nz, 4);
-  int e = 0;
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j)
-      for (int k = 0; k < nz; ++k)
-        for (const auto& p : perms) {
-          std::array<int, 3> c = {i, j, k};
-          int tet[4];
-          tet[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s) {
-            ++c[p[s]];
-            tet[s + 1] = id(c[0], c[1], c[2]);
-          }
-          const Mat3 D = (Mat3() << m.points.col(tet[1]) - m.points.col(tet[0]),
-                          m.points.col(tet[2]) - m.points.col(tet[0]), m.points.col(tet[3]) - m.points.col(tet[0]))
-                             .finished();
-          if (D.determinant() < 0) std::swap(tet[1], tet[2]);
-          for (int a = 0; a < 4; ++a) m.cells(e, a) = tet[a];
-          ++e;
-        }
-  return m;
+// The beam of nx x ny x nz cuboids over [0, lx] x [0, ly] x [0, lz] of the solid element
+// named by its generator name ("tet4", "hex8", ...): corotate.beam's mesh, node for node
+// (the library's one structured generator, meshes/structured_box.hpp).
+inline TetMesh structured_beam(const std::string& element, int nx, int ny, int nz, double lx, double ly, double lz) {
+  return structured_box(element, {nx, ny, nz}, Vec3(lx, ly, lz));
 }
 
-// The same beam of nx x ny x nz cubes as Hex8 elements (VTK "hexahedron" node order: the
-// face at the cube's low z counter-clockwise seen from +z, then the face above it).
-inline TetMesh structured_hex_beam(int nx, int ny, int nz, double lx, double ly, double lz) {
-  TetMesh m = structured_tet_beam(nx, ny, nz, lx, ly, lz);  // the same nodes
-  auto id = [&](int i, int j, int k) { return (i * (ny + 1) + j) * (nz + 1) + k; };
-  m.cells.resize(nx * ny * nz, 8);
-  int e = 0;
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j)
-      for (int k = 0; k < nz; ++k, ++e) {
-        const std::array<int, 8> corner = Hex8::grid_cube(id, i, j, k);
-        for (int a = 0; a < 8; ++a) m.cells(e, a) = corner[a];
-      }
-  return m;
+// The mesh as text: "n m k", n lines of x y z, m lines of k node indices, the cell type; the
+// check that the benchmark's beam is corotate.beam's (tests/test_bench_mesh.py).
+inline void write_mesh(const std::string& path, const TetMesh& mesh) {
+  std::ofstream out(path);
+  if (!out) throw InvalidInput("cannot write " + path);
+  out.precision(17);
+  out << mesh.points.cols() << ' ' << mesh.cells.rows() << ' ' << mesh.cells.cols() << '\n';
+  for (Index i = 0; i < mesh.points.cols(); ++i)
+    out << mesh.points(0, i) << ' ' << mesh.points(1, i) << ' ' << mesh.points(2, i) << '\n';
+  for (Index e = 0; e < mesh.cells.rows(); ++e) {
+    for (Index a = 0; a < mesh.cells.cols(); ++a) out << (a ? " " : "") << mesh.cells(e, a);
+    out << '\n';
+  }
+  out << mesh.cell_type << '\n';
 }
 
 // TetGen .node/.ele pair (path of either file; 0- or 1-based as the .node file says).
@@ -117,6 +89,7 @@ inline TetMesh read_tetgen(const std::string& path) {
     throw InvalidInput("mesh file ended early");
   };
   TetMesh m;
+  m.cell_type = "tetra";
   auto node_in = open(stem + ".node");
   int n, dim, attrs, marker;
   next_line(node_in) >> n >> dim >> attrs >> marker;

@@ -45,7 +45,8 @@ struct Options {
   int steps = 100;
   double dt = 0.01;
   bool lumped = false;
-  bool hex = false;  // --element hex8: the beam of Hex8 elements instead of tets
+  std::string element = "tet4";  // --element: the beam's element (a generator name, structured_box.hpp)
+  std::string write_mesh;        // --write-mesh FILE: write the beam's mesh and stop
   bool checks = true;  // the loud-failure checks (simulation.hpp); --no-checks: failure policy Ignore
   SparseCholesky::Backend direct = SparseCholesky::Backend::Auto;  // --direct eigen|cholmod
   bool reference = true;  // --no-reference: skip the converged run (timing only; dev is not printed)
@@ -112,9 +113,8 @@ RunResult run(const bench::TetMesh& mesh, const Config& config, const Options& o
   settings.time_step = opt.dt;
   settings.lumped_mass = opt.lumped;
   const long heap_before = heap_bytes();
-  Simulation sim(
-      make_model("corotational", mesh.cells.cols() == 8 ? "hexahedron" : "tetra", mesh.points, mesh.cells, material),
-      settings, std::move(solver));
+  Simulation sim(make_model("corotational", mesh.cell_type, mesh.points, mesh.cells, material), settings,
+                 std::move(solver));
   if (!opt.checks) sim.set_failure_policy(FailurePolicy::Ignore);
   const double x_min = mesh.points.row(0).minCoeff(), x_max = mesh.points.row(0).maxCoeff();
   std::vector<Index> fixed, tip;
@@ -186,7 +186,9 @@ void usage() {
       "  --steps N           steps per run (default 100)\n"
       "  --dt SECONDS        time step (default 0.01)\n"
       "  --lumped            lumped instead of consistent mass\n"
-      "  --element E         tet4 (default: 6 tets per cube) or hex8 (one Hex8 per cube) beams\n"
+      "  --element E         the beam's element: tet4 (default: 6 tets per cube), hex8 or hex20\n"
+      "                      (corotate.beam's mesh, node for node)\n"
+      "  --write-mesh FILE   write the (first) beam's mesh as text (n m k, points, cells, cell type) and stop\n"
       "  --no-checks         skip the loud-failure checks (failure policy ignore; default: warn)\n"
       "  --threads N         threads of the element sweep, SpMV and smoother (default 1; OpenMP)\n"
       "  --direct B          the 'direct' configuration's Cholesky: eigen or cholmod (default: cholmod when\n"
@@ -255,11 +257,9 @@ int main(int argc, char** argv) {
       else if (arg == "--steps") opt.steps = std::stoi(value());
       else if (arg == "--dt") opt.dt = std::stod(value());
       else if (arg == "--lumped") opt.lumped = true;
-      else if (arg == "--element") {
-        const std::string name = value();
-        if (name != "tet4" && name != "hex8") throw InvalidInput("--element takes tet4 or hex8");
-        opt.hex = name == "hex8";
-      } else if (arg == "--no-checks") opt.checks = false;
+      else if (arg == "--element") opt.element = value();
+      else if (arg == "--write-mesh") opt.write_mesh = value();
+      else if (arg == "--no-checks") opt.checks = false;
       else if (arg == "--trace") opt.trace = true;
       else if (arg == "--no-reference") opt.reference = false;
       else if (arg == "--direct") {
@@ -281,12 +281,15 @@ int main(int argc, char** argv) {
       for (int s : opt.sizes)
         meshes.emplace_back(
             "beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),
-            opt.hex ? bench::structured_hex_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0)
-                    : bench::structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
+            bench::structured_beam(opt.element, 10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
+    if (!opt.write_mesh.empty()) {
+      bench::write_mesh(opt.write_mesh, meshes.front().second);
+      return 0;
+    }
 
     std::printf(
         "scenario: corotational %s, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
-        opt.hex ? "Hex8" : "tets", opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
+        opt.element.c_str(), opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
         opt.checks ? "loud-failure checks" : "no checks", num_threads());
     std::printf("direct solver (config 'direct'): %s (auto: CHOLMOD%s from %ld DOFs); two-level coarse solver: %s\n",
                 DirectSolver(opt.direct).backend_name(), SparseCholesky::have_cholmod() ? "" : " (not built)",

@@ -56,13 +56,13 @@ inline int embedding_main(int argc, char** argv) {
   };
 
   // Per frame.
-  const TetMesh body = structured_tet_beam(10, 3, 4, 10.0, 3.0, 4.0);
+  const TetMesh body = structured_beam("tet4", 10, 3, 4, 10.0, 3.0, 4.0);
   const Nodes surface = random_vertices(vertices, Vec3(10, 3, 4), 0.0, 0.0, 7);
   Connectivity triangles(2 * vertices, 3);
   for (Index t = 0; t < triangles.rows(); ++t)
     for (int c = 0; c < 3; ++c) triangles(t, c) = int((t / 2 + c + t % 2) % vertices);
   auto t0 = clock_type::now();
-  SurfaceEmbedding embedding("tetra", body.points, body.cells, surface, triangles);
+  SurfaceEmbedding embedding(body.cell_type, body.points, body.cells, surface, triangles);
   const double couple_ms = 1e3 * seconds_since(t0);
   Nodes x(3, body.points.cols()), y(3, vertices), normals(3, vertices);
   for (Index i = 0; i < x.cols(); ++i) {
@@ -96,10 +96,10 @@ inline int embedding_main(int argc, char** argv) {
 
   // Coupling: cubes of 6 tets, n x n/2 x n/2 cubes with 6 n^3 / 4 ~ coupling_cells.
   const int n = std::max(2, int(std::lround(std::cbrt(coupling_cells / 1.5))));
-  const TetMesh big = structured_tet_beam(n, n / 2, n / 2, 2.0 * n, 1.0 * n, 1.0 * n);
+  const TetMesh big = structured_beam("tet4", n, n / 2, n / 2, 2.0 * n, 1.0 * n, 1.0 * n);
   const Nodes many = random_vertices(coupling_vertices, Vec3(2.0 * n, 1.0 * n, 1.0 * n), 0.05, 0.5, 11);
   t0 = clock_type::now();
-  const SurfaceEmbedding coupled("tetra", big.points, big.cells, many, Connectivity(0, 3));
+  const SurfaceEmbedding coupled(big.cell_type, big.points, big.cells, many, Connectivity(0, 3));
   const double coupling_s = seconds_since(t0);
   std::printf("coupling: %ld vertices to %ld tets in %.2f s (%ld outside, farthest %.2f element sizes)\n",
               static_cast<long>(coupling_vertices), static_cast<long>(big.cells.rows()), coupling_s,

@@ -31,7 +31,7 @@ inline int feedback_main(int argc, char** argv) {
     } else throw InvalidInput("unknown option " + arg + " for --scenario feedback");
   }
   using clock_type = std::chrono::steady_clock;
-  const TetMesh mesh = structured_tet_beam(35, 7, 7, 5.0, 1.0, 1.0);
+  const TetMesh mesh = structured_beam("tet4", 35, 7, 7, 5.0, 1.0, 1.0);
   const Index n = mesh.points.cols();
   Nodes x(3, n);
   for (Index i = 0; i < n; ++i) {
@@ -51,7 +51,7 @@ inline int feedback_main(int argc, char** argv) {
   std::printf("%-14s %9s %10s %10s %12s\n", "method", "elements", "median_us", "p99_us", "|F| [N]");
   const Material material{1e7, 0.3, 1000.0};
   for (const auto& name : feedback_method_names()) {
-    HapticFeedback feedback("tetra", mesh.points, mesh.cells, material, tool, feedback_method_from_name(name));
+    HapticFeedback feedback(mesh.cell_type, mesh.points, mesh.cells, material, tool, feedback_method_from_name(name));
     Nodes forces;
     Eigen::MatrixXd stiffness;
     for (int q = 0; q < 200; ++q) feedback.query(x, forces, stiffness);

@@ -52,8 +52,8 @@ inline GrabResult run_grab(const TetMesh& mesh, const std::string& mode, double 
   const double dt = 0.01, lift_per_frame = 0.02;
   IntegratorSettings settings;
   settings.time_step = dt;
-  Simulation sim(make_model("corotational", "tetra", mesh.points, mesh.cells, Material{1e7, 0.3, 1000.0}), settings,
-                 std::make_unique<PCG>());
+  Simulation sim(make_model("corotational", mesh.cell_type, mesh.points, mesh.cells, Material{1e7, 0.3, 1000.0}),
+                 settings, std::make_unique<PCG>());
   const double x_min = mesh.points.row(0).minCoeff();
   std::vector<Index> clamped;
   Index grabbed = 0;
@@ -143,7 +143,7 @@ inline int grab_main(int argc, char** argv) {
   else
     for (int s : sizes)
       meshes.emplace_back("beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),
-                          structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
+                          structured_beam("tet4", 10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0));
   std::printf(
       "scenario: grab and drag the top node of the free end, corotational tets, E=1e7, default PCG, frames of 5 x "
       "0.01 s, %d cycles, attachment k=%g N/m, one thread, CPU ms per frame\n",

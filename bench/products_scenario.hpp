@@ -44,8 +44,8 @@ inline int products_main(int argc, char** argv) {
               "symmetric", "float32", "float_copy", "float_err");
   for (int s : sizes) {
     if (s < 1) throw InvalidInput("--sizes must be positive");
-    const TetMesh mesh = structured_tet_beam(10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0);
-    auto model = make_model("corotational", "tetra", mesh.points, mesh.cells, Material{1e7, 0.3, 1000.0});
+    const TetMesh mesh = structured_beam("tet4", 10 * s, 2 * s, 2 * s, 5.0, 1.0, 1.0);
+    auto model = make_model("corotational", mesh.cell_type, mesh.points, mesh.cells, Material{1e7, 0.3, 1000.0});
     Nodes x = mesh.points;
     for (Index i = 0; i < x.cols(); ++i) x(2, i) -= 0.01 * x(0, i) * x(0, i);  // bent: rotations to extract
     const Nodes y = x;

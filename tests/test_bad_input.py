@@ -52,7 +52,7 @@ def test_mesh_file_with_only_triangles(tmp_path):
     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], dtype=float)
     meshio.write(path, meshio.Mesh(points, [("triangle", np.array([[0, 1, 2], [1, 3, 2]]))]))
     with pytest.raises(
-        ValueError, match=r"no supported volume cells.*triangle.*supported: tetra, hexahedron, hexahedron20"
+        ValueError, match=rf"no supported volume cells.*triangle.*supported: {', '.join(cr.mesh.VOLUME_CELL_TYPES)}"
     ):
         cr.read_mesh(path)
 
@@ -60,7 +60,7 @@ def test_mesh_file_with_only_triangles(tmp_path):
 def test_unsupported_cell_type_elsewhere():
     with pytest.raises(ValueError, match="unsupported cell type 'wedge'"):
         cr.Mesh(np.zeros((6, 3)), [[0, 1, 2, 3, 4, 5]], "wedge")
-    with pytest.raises(ValueError, match="unsupported cell type 'triangle'"):
+    with pytest.raises(ValueError, match=r"element_matrices needs solid cells .*, not 'triangle'"):
         _core.element_matrices("triangle", np.zeros((3, 3)), MAT._core())
     with pytest.raises(ValueError, match="unsupported cell type 'pyramid'"):
         _core.ForceModel("linear", "pyramid", unit_tet_points(), np.array([[0, 1, 2, 3]]), MAT._core())

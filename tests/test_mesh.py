@@ -13,7 +13,17 @@ import meshio
 import numpy as np
 import pytest
 
-from corotate.mesh import Mesh, beam, box, read_mesh, write_mesh
+from corotate.mesh import (
+    SOLID_ELEMENTS,
+    SUPPORTED_CELL_TYPES,
+    VOLUME_CELL_TYPES,
+    Mesh,
+    beam,
+    box,
+    cell_types,
+    read_mesh,
+    write_mesh,
+)
 from corotate.output import TimeSeriesWriter
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
@@ -23,7 +33,8 @@ needs_armadillo = pytest.mark.skipif(
     reason="shared/data/armadillo_4k.* not present beside the checkout",
 )
 
-ELEMENTS = ["tet4", "hex8", "hex20"]
+ELEMENTS = SOLID_ELEMENTS  # every registered solid (the core's cell-type table)
+FACTS = {facts["generator_name"]: facts for facts in cell_types().values()}
 SIZE = (2.0, 0.7, 1.3)
 CELLS = (3, 2, 4)
 
@@ -51,9 +62,13 @@ def test_box_counts_and_array_layout(element):
     m = box(SIZE, CELLS, element)
     corners = (nx + 1) * (ny + 1) * (nz + 1)
     edges = nx * (ny + 1) * (nz + 1) + (nx + 1) * ny * (nz + 1) + (nx + 1) * (ny + 1) * nz
-    expected_nodes = corners + edges if element == "hex20" else corners
+    simplex, quadratic = FACTS[element]["domain"] == "simplex", FACTS[element]["order"] == 2
+    if quadratic and simplex:  # the tets' edges also cross every face and cuboid: all half steps
+        expected_nodes = (2 * nx + 1) * (2 * ny + 1) * (2 * nz + 1)
+    else:
+        expected_nodes = corners + edges if quadratic else corners
     assert m.n_nodes == expected_nodes
-    assert m.n_cells == nx * ny * nz * (6 if element == "tet4" else 1)
+    assert m.n_cells == nx * ny * nz * (6 if simplex else 1)
     assert m.points.dtype == np.float64 and m.points.flags.c_contiguous
     assert m.cells.dtype == np.int64 and m.cells.flags.c_contiguous
     # No duplicated nodes and every node used.
@@ -136,8 +151,8 @@ def test_beam_is_box_from_origin():
 
 
 def test_generator_argument_errors():
-    with pytest.raises(ValueError, match=r"unknown element 'tet10'.*tet4, hex8, hex20"):
-        box(element="tet10")
+    with pytest.raises(ValueError, match=rf"unknown element 'tet11'; choose one of {', '.join(SOLID_ELEMENTS)}$"):
+        box(element="tet11")
     with pytest.raises(ValueError, match="cells must be three integers >= 1"):
         box(cells=(1, 0, 1))
     with pytest.raises(ValueError, match="size must be finite and positive"):
@@ -154,12 +169,17 @@ def test_cell_volume_signs():
     # Unit cube with corner 6 moved by (a, 0, 0) and corner 1 by (0, b, 0):
     # x = xi + a xi eta zeta, y = eta + b xi (1 - eta)(1 - zeta), z = zeta.
     # det J is quadratic in zeta, and integrating it over [0, 1]^3 by hand
-    # gives the exact volume 1 + (a - b) / 4 - a b / 12.
+    # gives the exact volume 1 + (a - b) / 4 - a b / 12. The map is trilinear, so
+    # hex20, its every node placed by it (curved edges), has the same volume.
     a, b = 0.3, 0.4
-    for element in ("hex8", "hex20"):  # hex20 uses its corners only
+
+    def trilinear(p):
+        xi, eta, zeta = p.T
+        return np.column_stack([xi + a * xi * eta * zeta, eta + b * xi * (1 - eta) * (1 - zeta), zeta])
+
+    for element in ("hex8", "hex20"):
         m = box((1, 1, 1), (1, 1, 1), element)
-        m.points[m.cells[0, 6]] += [a, 0.0, 0.0]
-        m.points[m.cells[0, 1]] += [0.0, b, 0.0]
+        m.points[:] = trilinear(m.points)
         assert m.cell_volumes()[0] == pytest.approx(1 + (a - b) / 4 - a * b / 12, rel=1e-14)
 
 
@@ -182,7 +202,9 @@ def test_mesh_rejects_bad_shapes_and_types():
         Mesh(np.zeros((4, 2)), [[0, 1, 2, 3]], "tetra")
     with pytest.raises(ValueError, match=r"must have shape \(m, 8\)"):
         Mesh(unit_tet().points, [[0, 1, 2, 3]], "hexahedron")
-    with pytest.raises(ValueError, match=r"unsupported cell type 'quad'.*tetra, hexahedron, hexahedron20"):
+    with pytest.raises(
+        ValueError, match=rf"unsupported cell type 'quad'; supported: {', '.join(SUPPORTED_CELL_TYPES)}"
+    ):
         Mesh(unit_tet().points, [[0, 1, 2, 3]], "quad")
 
 
@@ -308,7 +330,7 @@ def test_read_missing_file_names_path(tmp_path):
 def test_read_surface_only_mesh_is_rejected(tmp_path):
     f = tmp_path / "surface.vtu"
     meshio.write(f, meshio.Mesh(unit_tet().points, [("triangle", np.array([[0, 1, 2], [0, 1, 3]]))]))
-    with pytest.raises(ValueError, match=r"no supported volume cells.*\['triangle'\].*tetra, hexahedron"):
+    with pytest.raises(ValueError, match=rf"no supported volume cells.*\['triangle'\].*{', '.join(VOLUME_CELL_TYPES)}"):
         read_mesh(f)
 
 

@@ -26,6 +26,8 @@ void bind_simulation(py::module_& m);  // simulation_bindings.cpp
 void bind_feedback(py::module_& m);    // feedback_bindings.cpp
 void bind_modal(py::module_& m);       // modal_bindings.cpp
 void bind_embedding(py::module_& m);  // embedding_bindings.cpp
+void bind_cell_types(py::module_& m);  // cell_type_bindings.cpp
+void bind_meshes(py::module_& m);  // meshes_bindings.cpp
 std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const PCGSettings& pcg);  // simulation_bindings.cpp
 
 namespace {
@@ -65,22 +67,6 @@ py::dict solve_stats_dict(const SolveStats& s) {
   return d;
 }
 
-template <class E>
-py::dict element_matrices_dict(const PointsIn& points, const Material& material) {
-  const Nodes X = nodes_from(points, "element nodes");
-  if (X.cols() != E::num_nodes)
-    throw InvalidInput(std::string(E::name) + " needs " + std::to_string(E::num_nodes) + " nodes");
-  material.validate();
-  const auto m = compute_element_matrices<E>(X, material, 0);
-  py::dict d;
-  d["stiffness"] = Eigen::MatrixXd(m.stiffness);
-  d["mass"] = Eigen::MatrixXd(m.mass);
-  d["lumped_mass"] = Eigen::VectorXd(m.lumped_mass);
-  d["volume"] = m.volume;
-  d["centre_gradient"] = Eigen::MatrixXd(m.centre_gradient);
-  return d;
-}
-
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -97,7 +83,6 @@ PYBIND11_MODULE(_core, m) {
       .value("TWO_LEVEL", PreconditionerKind::TwoLevel)
       .value("AUTO", PreconditionerKind::Auto);
   m.def("model_names", &model_names, "Every force model name.");
-  m.def("cell_type_names", &cell_type_names, "Every supported cell type (meshio names).");
   m.def("models_for_cell_type", &models_for_cell_type, py::arg("cell_type"), "The models available for a cell type.");
   m.def("preconditioner_names", &preconditioner_names, "Every PCG preconditioner name.");
   m.def("integrator_names", &integrator_names, "Every integrator name.");
@@ -132,18 +117,6 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("lame_lambda", &Material::lame_lambda)
       .def_property_readonly("lame_mu", &Material::lame_mu)
       .def("elasticity_matrix", &Material::elasticity_matrix);
-
-  m.def(
-      "element_matrices",
-      [](const std::string& cell_type, const PointsIn& points, const Material& material) {
-        if (cell_type == Tet4::name) return element_matrices_dict<Tet4>(points, material);
-        if (cell_type == Hex8::name) return element_matrices_dict<Hex8>(points, material);
-        if (cell_type == Hex20::name) return element_matrices_dict<Hex20>(points, material);
-        throw InvalidInput("unsupported cell type '" + cell_type + "'");
-      },
-      py::arg("cell_type"), py::arg("points"), py::arg("material"),
-      "Precomputed matrices of one element: stiffness (3k x 3k), consistent mass (k x k scalar), lumped_mass (k), "
-      "volume.");
 
   m.def("polar_rotation", [](const Mat3& F) { return polar_rotation_svd(F); }, py::arg("F"));
   m.def(
@@ -255,6 +228,8 @@ PYBIND11_MODULE(_core, m) {
   bind_feedback(m);  // feedback_bindings.cpp
   bind_modal(m);  // modal_bindings.cpp
   bind_embedding(m);  // embedding_bindings.cpp
+  bind_cell_types(m);  // cell_type_bindings.cpp
+  bind_meshes(m);  // meshes_bindings.cpp
   bind_mass_spring(m);  // after ForceModel, which MassSpring derives from
   bind_hyperelastic(m);  // after ForceModel, which it returns
 }

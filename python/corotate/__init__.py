@@ -1,6 +1,6 @@
 """corotate: fast simulation of large deformations of elastic solids.
 
-Co-rotational and linear FEM on tet, hex and quadratic hex meshes, stepped implicitly
+Co-rotational, linear and hyperelastic FEM on linear and quadratic tet and hex meshes, stepped implicitly
 frame by frame from Python by a C++ core; mass-spring bodies (cloth, cube lattices, any
 tet/hex mesh) stepped explicitly with a safe time step (MassSpringBody, ExplicitSimulation).
 
@@ -23,7 +23,7 @@ from .explicit import ExplicitSimulation
 from .feedback import HapticFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
-from .mesh import Mesh, beam, box, read_mesh, rectangle, write_mesh
+from .mesh import SUPPORTED_CELL_TYPES, Mesh, beam, box, cell_types, read_mesh, rectangle, write_mesh
 from .meshing import tetrahedralize
 from .output import TimeSeriesWriter
 from .simulation import Simulation
@@ -33,6 +33,8 @@ from .threads import available_threads, have_openmp, set_threads, threads
 
 __all__ = [
     "Mesh",
+    "cell_types",
+    "SUPPORTED_CELL_TYPES",
     "beam",
     "box",
     "rectangle",

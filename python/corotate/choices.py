@@ -1,6 +1,8 @@
 """The named choices of the API, one source of truth: the name lists come from the C++ core
 (``corotate._core``); the ``Literal`` types mirror them for type checkers, and
-tests/test_choices.py checks that the two agree."""
+tests/test_choices.py checks that the two agree. Cell types are the exception: they are
+the keys of the core's cell-type table (``corotate.cell_types()``), which grows with every
+registered element, so ``CellType`` is a plain string checked against that table."""
 
 from __future__ import annotations
 
@@ -9,7 +11,7 @@ from typing import Literal
 import corotate._core as _core
 
 ModelName = Literal["linear", "corotational", "stvk", "neohookean", "fixed_corotated", "neohookean_log"]
-CellType = Literal["tetra", "hexahedron", "hexahedron20", "triangle"]
+CellType = str  # a key of corotate.cell_types()
 PreconditionerName = Literal["none", "jacobi", "block_jacobi", "reference_factor", "two_level", "auto"]
 ImplicitIntegratorName = Literal["linearized", "newton"]
 ExplicitIntegratorName = Literal["symplectic_euler", "verlet"]

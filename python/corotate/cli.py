@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from . import __version__
+from .mesh import VOLUME_CELL_TYPES
 
 
 def _demo_simulation(args: argparse.Namespace) -> tuple[Any, Any, np.ndarray, np.ndarray, int]:
@@ -167,8 +168,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="A soft cantilever (5 x 1 x 1 m, clamped at x = 0) falls under gravity: co-rotational FEM, "
         "implicit steps of dt = 0.01 s, five steps per frame as in the paper's Table 1. Writes "
         "OUT/demo.pvd (+ one .vtu per frame, with displacement and velocity), a picture OUT/demo.png "
-        "(with matplotlib) and prints the real-time ratio. With --mesh, the same on any "
-        "tetra/hexahedron/hexahedron20 mesh file.",
+        "(with matplotlib) and prints the real-time ratio. With --mesh, the same on any mesh file of "
+        f"{'/'.join(VOLUME_CELL_TYPES)} cells.",
     )
     demo.add_argument("--out", default="corotate-demo", help="output folder (default: corotate-demo)")
     demo.add_argument("--frames", type=int, default=60, help="frames to write (default 60)")

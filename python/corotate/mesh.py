@@ -1,8 +1,10 @@
 """Volume meshes for corotate: the :class:`Mesh` container, file I/O and
 structured-grid generators.
 
-Everything here is pure NumPy; meshio is imported only when a file is read or
-written, so generating meshes works without it.
+The facts about each cell type (node count, reference nodes, edges, boundary faces,
+the mirror map that turns a cell inside out, the generator name) come from the C++
+core's cell-type table, :func:`cell_types`; this module restates none of them.
+meshio is imported only when a file is read or written.
 
 Conventions
 -----------
@@ -25,7 +27,6 @@ Conventions
 from __future__ import annotations
 
 import importlib
-import itertools
 import os
 import warnings
 from collections.abc import Mapping
@@ -34,11 +35,16 @@ from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
+from . import _core
+
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
 __all__ = [
     "SUPPORTED_CELL_TYPES",
+    "VOLUME_CELL_TYPES",
+    "SOLID_ELEMENTS",
+    "cell_types",
     "Mesh",
     "read_mesh",
     "write_mesh",
@@ -47,63 +53,34 @@ __all__ = [
     "rectangle",
 ]
 
+
+def cell_types() -> dict[str, dict[str, Any]]:
+    """The cell-type table of the C++ core: every registered element's facts.
+
+    returns  dict cell type name -> dict with ``name`` (meshio), ``generator_name``
+             (the ``element`` of :func:`box`), ``domain`` ("simplex" or "cube"),
+             ``dim`` (3 solid, 2 membrane), ``order`` (1 linear, 2 quadratic),
+             ``num_nodes`` k, ``num_corners``, ``num_stiffness_points``,
+             ``reference_nodes`` (k, dim), ``edges`` (ne, 2) corner pairs (node
+             num_corners + i of a quadratic cell sits on edge i), ``faces`` (nf, c)
+             corner nodes of each boundary face, counter-clockwise seen from
+             outside, ``mirror`` (k,) the renumbering that turns a cell inside
+             out, ``models`` (the force models available for it).
+    """
+    return {name: dict(facts) for name, facts in _CELL_TYPES.items()}
+
+
+_CELL_TYPES: dict[str, dict[str, Any]] = {facts["name"]: facts for facts in _core.cell_types()}
+
 #: Node count per cell for each supported meshio/VTK cell type.
-SUPPORTED_CELL_TYPES = {"tetra": 4, "hexahedron": 8, "hexahedron20": 20, "triangle": 3}
+SUPPORTED_CELL_TYPES = {name: int(facts["num_nodes"]) for name, facts in _CELL_TYPES.items()}
 #: The solid cell types among them (what read_mesh reads).
-VOLUME_CELL_TYPES = ("tetra", "hexahedron", "hexahedron20")
+VOLUME_CELL_TYPES = tuple(name for name, facts in _CELL_TYPES.items() if facts["dim"] == 3)
 
-# Generator element names -> meshio cell types.
-_ELEMENTS = {"tet4": "tetra", "hex8": "hexahedron", "hex20": "hexahedron20"}
-
-# Node permutation that mirrors a cell (turns its signed volume around) while
-# keeping it the same element: swap nodes 1 and 2 of a tet; swap the bottom and
-# top faces of a hex (for hex20 the bottom/top edge mid-nodes follow, and the
-# vertical edges keep their mid-nodes).
-_FLIP = {
-    "tetra": np.array([0, 2, 1, 3]),
-    "hexahedron": np.array([4, 5, 6, 7, 0, 1, 2, 3]),
-    "hexahedron20": np.array([4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11, 16, 17, 18, 19]),
-}
-
-# Unit-cube corner offsets in VTK hexahedron order.
-_HEX_CORNERS = np.array(
-    [
-        [0, 0, 0],
-        [1, 0, 0],
-        [1, 1, 0],
-        [0, 1, 0],
-        [0, 0, 1],
-        [1, 0, 1],
-        [1, 1, 1],
-        [0, 1, 1],
-    ],
-    dtype=np.int64,
-)
-
-# The hexahedron20 edges (pairs of corners) in VTK mid-node order 8..19.
-# Faces of each cell with their nodes counter-clockwise seen from outside (VTK orderings).
-_TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]], dtype=np.int64)
-_HEX_FACES = np.array(
-    [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]], dtype=np.int64
-)
-
-_HEX20_EDGES = np.array(
-    [
-        [0, 1],
-        [1, 2],
-        [2, 3],
-        [3, 0],
-        [4, 5],
-        [5, 6],
-        [6, 7],
-        [7, 4],
-        [0, 4],
-        [1, 5],
-        [2, 6],
-        [3, 7],
-    ],
-    dtype=np.int64,
-)
+# Generator element names ("tet4", ...) -> meshio cell types.
+_ELEMENTS = {str(_CELL_TYPES[name]["generator_name"]): name for name in VOLUME_CELL_TYPES}
+#: The ``element`` names the generators (:func:`box`, :func:`beam`) accept, one per solid cell type.
+SOLID_ELEMENTS = tuple(_ELEMENTS)
 
 
 def _supported_list() -> str:
@@ -224,29 +201,26 @@ class Mesh:
         returns  (m,) float64; positive for cells in VTK orientation. For
                  triangles: the (unsigned) areas, as a sheet has no inside.
 
-        Tets are exact. Hexahedra use 2x2x2 Gauss quadrature of det J of the
-        trilinear corner map, which is exact for that map (det J has degree
-        <= 2 in each reference coordinate). hexahedron20 cells use their
-        corner nodes only, so curved edges are ignored.
+        Each cell's volume is the integral of det(dX/dxi) by its element's own
+        quadrature in the C++ core, exact for straight and for curved
+        (quadratic) cells.
         """
-        x = self.points[self.cells]  # (m, k, 3)
-        if self.cell_type == "triangle":
-            return 0.5 * np.linalg.norm(np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
-        if self.cell_type == "tetra":
-            return _tet_volumes(x)
-        return _hex_volumes(x[:, :8, :])
+        return np.asarray(_core.cell_volumes(self.cell_type, self.points, self.cells), dtype=np.float64)
 
     def boundary_faces(self) -> np.ndarray:
         """The faces on the body's surface, oriented outward.
 
-        returns  (f, 3) int64 node triangles for tetra; (f, 4) corner quads for
-                 hexahedron and hexahedron20 (the mid-edge nodes are left out).
-                 A face is on the surface when no other cell shares it.
+        returns  (f, c) int64 corner nodes of each face: triangles for tetra,
+                 quads for hexahedron and hexahedron20 (the mid-edge nodes are
+                 left out). A face is on the surface when no other
+                 cell shares it.
         """
-        if self.cell_type == "triangle":
-            raise ValueError("boundary faces need a volume mesh, got 'triangle' cells (a sheet is its own surface)")
-        local = _TET_FACES if self.cell_type == "tetra" else _HEX_FACES
-        faces = self.cells[:, :8][:, local].reshape(-1, local.shape[1])  # outward per cell
+        local = np.asarray(_CELL_TYPES[self.cell_type]["faces"], dtype=np.int64)
+        if local.size == 0:
+            raise ValueError(
+                f"boundary faces need a volume mesh, got {self.cell_type!r} cells (a sheet is its own surface)"
+            )
+        faces = self.cells[:, local].reshape(-1, local.shape[1])  # outward per cell
         key = np.sort(faces, axis=1)
         _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
         return faces[np.sort(first[counts == 1])]
@@ -336,40 +310,6 @@ def _as_vec3(v: ArrayLike, name: str) -> np.ndarray:
     return a
 
 
-def _tet_volumes(x: np.ndarray) -> np.ndarray:
-    """Signed tet volumes. x  (m, 4, 3) corner positions -> (m,)."""
-    e = x[:, 1:, :] - x[:, :1, :]  # edges from node 0, rows = edge vectors
-    return np.linalg.det(e) / 6.0
-
-
-def _hex_gauss_derivatives() -> np.ndarray:
-    """Trilinear shape-function gradients at the 2x2x2 Gauss points.
-
-    returns  (8, 8, 3): [gauss point, corner, d/d(xi, eta, zeta)], reference
-             cube [-1, 1]^3, corners in VTK order.
-    """
-    s = 2 * _HEX_CORNERS - 1  # corner signs in {-1, +1}
-    g = 1.0 / np.sqrt(3.0)
-    gp = np.array(list(itertools.product((-g, g), repeat=3)))  # (8, 3)
-    # N_a = prod_d (1 + s_ad * xi_d) / 8; dN_a/dxi_j keeps s_aj, drops factor j.
-    factors = 1.0 + gp[:, None, :] * s[None, :, :]  # (gp, corner, 3)
-    dn = np.empty((8, 8, 3))
-    for j in range(3):
-        others = [d for d in range(3) if d != j]
-        dn[:, :, j] = s[None, :, j] * np.prod(factors[:, :, others], axis=2) / 8.0
-    return dn
-
-
-_HEX_DN = _hex_gauss_derivatives()
-
-
-def _hex_volumes(x: np.ndarray) -> np.ndarray:
-    """Signed trilinear hex volumes. x  (m, 8, 3) VTK-ordered corners -> (m,)."""
-    # J[c, g, i, j] = sum_a x[c, a, i] * dN[g, a, j]; all Gauss weights are 1.
-    jac = np.einsum("cai,gaj->cgij", x, _HEX_DN)
-    return np.linalg.det(jac).sum(axis=1)
-
-
 # --------------------------------------------------------------------------
 # Reading and writing
 # --------------------------------------------------------------------------
@@ -412,7 +352,7 @@ def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = 
     ValueError  if the file cannot be parsed or is inconsistent (the message
                 names the file and the problem), holds no supported volume
                 cells (the message lists the types found and the supported
-                ones), holds other volume cells (wedges, tetra10, unknown
+                ones), holds other volume cells (wedges, pyramids, unknown
                 types), or several supported volume types (one type per body).
     """
     from . import mesh_io
@@ -466,10 +406,12 @@ def _fix_orientation(mesh: Mesh, path: str | os.PathLike[str]) -> None:
     n_neg = int(negative.sum())
     if n_neg == 0:
         return
-    mesh.cells[negative] = mesh.cells[negative][:, _FLIP[mesh.cell_type]]
-    what = "nodes 1 and 2 swapped" if mesh.cell_type == "tetra" else "top and bottom faces swapped"
+    mirror = np.asarray(_CELL_TYPES[mesh.cell_type]["mirror"], dtype=np.int64)
+    mesh.cells[negative] = mesh.cells[negative][:, mirror]
+    moved = ", ".join(f"{a}<->{b}" for a, b in enumerate(mirror.tolist()) if a < b)
     warnings.warn(
-        f"{path}: reordered {n_neg} of {mesh.n_cells} {mesh.cell_type} cell(s) with negative volume ({what})",
+        f"{path}: reordered {n_neg} of {mesh.n_cells} {mesh.cell_type} cell(s) with negative volume "
+        f"(nodes {moved} swapped)",
         stacklevel=3,
     )
 
@@ -513,7 +455,8 @@ def box(
 
     size     (3,) edge lengths (lx, ly, lz), all > 0
     cells    (3,) number of cuboids (nx, ny, nz) along each axis, all >= 1
-    element  "tet4": each cuboid cut into 6 tets sharing one of its diagonals
+    element  a solid's generator name (``cell_types()[t]["generator_name"]``):
+             "tet4": each cuboid cut into 6 tets sharing one of its diagonals
                      (Kuhn / Freudenthal split), mirrored from cuboid to cuboid
                      along each axis so the mesh is conforming and symmetric about
                      every plane between cuboid pairs: a beam with an even number
@@ -521,12 +464,14 @@ def box(
                      direction everywhere would twist it sideways, by 10% of the
                      deflection on a 4 x 4 cross-section);
              "hex8": one "hexahedron" per cuboid;
-             "hex20": one "hexahedron20" per cuboid, edge mid-nodes shared
-                     with the neighbouring cells.
+             "hex20": one "hexahedron20" per cuboid.
+             Mid-edge nodes are shared with the neighbouring cells.
     origin   (3,) the box's minimum corner
-    returns  Mesh; nodes numbered x-major with z fastest (hex20: corner and
-             mid-nodes interleaved on the half-step grid in the same order),
-             so a slab of constant x holds consecutive indices.
+    returns  Mesh; nodes numbered x-major with z fastest (quadratic elements:
+             corner and mid-nodes interleaved on the half-step grid in the same
+             order), so a slab of constant x holds consecutive indices. The
+             generator is the C++ core's (meshes/structured_box.hpp), the same
+             one the C++ benchmark and tests use.
     """
     if element not in _ELEMENTS:
         raise ValueError(f"unknown element {element!r}; choose one of {', '.join(_ELEMENTS)}")
@@ -537,29 +482,8 @@ def box(
     start = _as_vec3(origin, "origin")
     if not np.all(np.isfinite(start)):
         raise ValueError(f"origin must be finite, got {start.tolist()}")
-
-    # hex20 needs nodes at half steps; build the grid at that resolution and
-    # keep only corners and edge mid-points.
-    sub = 2 if element == "hex20" else 1
-    axes = [np.linspace(start[d], start[d] + lengths[d], sub * counts[d] + 1) for d in range(3)]
-    shape = tuple(sub * counts + 1)
-    keep = _grid_node_mask(shape, element)
-    node_id = np.full(shape, -1, dtype=np.int64)
-    node_id[keep] = np.arange(int(keep.sum()))
-    ijk = np.argwhere(keep)  # C order = z fastest, matching node_id
-    points = np.column_stack([axes[d][ijk[:, d]] for d in range(3)])
-
-    local = _local_offsets(element)  # (cells per cuboid, k, 3) in half-steps if sub=2
-    cuboid = np.indices(tuple(counts)).reshape(3, -1).T  # (N, 3) cuboid indices
-    base = sub * cuboid  # (N, 3) cuboid corners
-    if element == "tet4":  # the split mirrored in every odd cuboid along each axis
-        parity = cuboid % 2
-        mirrored = _mirrored_kuhn_tets()  # (2, 2, 2, 6, 4, 3)
-        idx = base[:, None, None, :] + mirrored[parity[:, 0], parity[:, 1], parity[:, 2]]
-    else:
-        idx = base[:, None, None, :] + local[None, :, :, :]  # (N, c, k, 3)
-    conn = node_id[idx[..., 0], idx[..., 1], idx[..., 2]]
-    return Mesh(points, conn.reshape(-1, local.shape[1]), _ELEMENTS[element])
+    points, conn, cell_type = _core.structured_box(element, [int(c) for c in counts], lengths, start)
+    return Mesh(points, conn, cell_type)
 
 
 def beam(
@@ -579,65 +503,6 @@ def _cell_counts(cells: ArrayLike) -> np.ndarray:
     if c.shape != (3,) or c.dtype.kind not in "iu" or np.any(c < 1):
         raise ValueError(f"cells must be three integers >= 1, got {cells!r}")
     return c.astype(np.int64)
-
-
-def _grid_node_mask(shape: tuple[int, ...], element: str) -> np.ndarray:
-    """Which grid points become nodes: all of them, or for hex20 (half-step
-    grid) the corners and edge mid-points, i.e. at most one odd index."""
-    if element != "hex20":
-        return np.ones(shape, dtype=bool)
-    i, j, k = np.indices(shape)
-    return (i % 2 + j % 2 + k % 2) <= 1
-
-
-def _local_offsets(element: str) -> np.ndarray:
-    """Grid offsets of each element's nodes inside one cuboid.
-
-    returns  (c, k, 3) int64: c elements per cuboid, k nodes each; for hex20
-             the offsets are in half steps (corners at 0 or 2).
-    """
-    if element == "hex8":
-        return _HEX_CORNERS[None]
-    if element == "hex20":
-        corners = 2 * _HEX_CORNERS
-        mids = corners[_HEX20_EDGES].sum(axis=1) // 2
-        return np.concatenate([corners, mids])[None]
-    return _kuhn_tets()
-
-
-def _kuhn_tets() -> np.ndarray:
-    """The 6 Kuhn tets of the unit cube as corner offsets, positively oriented.
-
-    Each tet walks from (0,0,0) to (1,1,1) along the cube edges, one axis at a
-    time in the order of a permutation; all six share that diagonal.
-    returns  (6, 4, 3) int64
-    """
-    tets = []
-    for perm in itertools.permutations(range(3)):
-        steps = np.eye(3, dtype=np.int64)[list(perm)]
-        verts = np.vstack([np.zeros(3, dtype=np.int64), np.cumsum(steps, axis=0)])
-        # The volume sign is the permutation's parity; swap 1 and 2 if odd.
-        if np.linalg.det(verts[1:] - verts[0]) < 0:
-            verts = verts[[0, 2, 1, 3]]
-        tets.append(verts)
-    return np.array(tets)
-
-
-def _mirrored_kuhn_tets() -> np.ndarray:
-    """The Kuhn tets mirrored along any subset of the axes, positively oriented.
-
-    returns  (2, 2, 2, 6, 4, 3) int64: [mx, my, mz] holds the split of the unit
-             cube mirrored along the axes whose flag is 1 (offset o -> 1 - o).
-    """
-    kuhn = _kuhn_tets()
-    out = np.empty((2, 2, 2, *kuhn.shape), dtype=np.int64)
-    for flags in itertools.product((0, 1), repeat=3):
-        f = np.array(flags)
-        tets = np.where(f == 1, 1 - kuhn, kuhn)
-        if f.sum() % 2 == 1:  # an odd number of mirrors reverses the orientation
-            tets = tets[:, [0, 2, 1, 3]]
-        out[flags] = tets
-    return out
 
 
 def rectangle(size: ArrayLike = (1.0, 1.0), cells: ArrayLike = (1, 1), origin: ArrayLike = (0.0, 0.0)) -> Mesh:

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "corotate/elements/element_matrices.hpp"
+#include "corotate/meshes/structured_box.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace fixtures {
@@ -39,33 +40,10 @@ struct Mesh {
   Connectivity cells;
 };
 
-// nx x ny x nz unit cubes, each cut into 6 positively oriented tets around its main diagonal.
+// nx x ny x nz unit cubes cut into tets: corotate.beam's mesh (meshes/structured_box.hpp).
 inline Mesh tet_beam(int nx, int ny, int nz) {
-  Mesh m;
-  auto id = [&](int i, int j, int k) { return (i * (ny + 1) + j) * (nz + 1) + k; };
-  m.points.resize(3, (nx + 1) * (ny + 1) * (nz + 1));
-  for (int i = 0; i <= nx; ++i)
-    for (int j = 0; j <= ny; ++j)
-      for (int k = 0; k <= nz; ++k) m.points.col(id(i, j, k)) = Vec3(i, j, k);
-  static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  m.cells.resize(6 * nx * ny * nz, 4);
-  int e = 0;
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j)
-      for (int k = 0; k < nz; ++k)
-        for (const auto& p : perms) {
-          int c[3] = {i, j, k}, tet[4] = {id(i, j, k), 0, 0, 0};
-          for (int s = 0; s < 3; ++s) {
-            ++c[p[s]];
-            tet[s + 1] = id(c[0], c[1], c[2]);
-          }
-          Mat3 D;
-          for (int s = 0; s < 3; ++s) D.col(s) = m.points.col(tet[s + 1]) - m.points.col(tet[0]);
-          if (D.determinant() < 0) std::swap(tet[1], tet[2]);
-          for (int a = 0; a < 4; ++a) m.cells(e, a) = tet[a];
-          ++e;
-        }
-  return m;
+  StructuredMesh m = structured_box("tet4", {nx, ny, nz}, Vec3(nx, ny, nz));
+  return {std::move(m.points), std::move(m.cells)};
 }
 
 // The nodes on the plane x = 0 (a beam's clamped end).

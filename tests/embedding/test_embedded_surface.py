@@ -10,8 +10,9 @@ from scipy.spatial.transform import Rotation
 
 import corotate as cr
 from corotate.embedding import EmbeddedSurface
+from corotate.mesh import SOLID_ELEMENTS
 
-ELEMENTS = ["tet4", "hex8", "hex20"]
+ELEMENTS = SOLID_ELEMENTS  # every registered solid (the core's cell-type table)
 
 
 def sphere_surface(radius: float, centre=(0.0, 0.0, 0.0), n: int = 400) -> tuple[np.ndarray, np.ndarray]:

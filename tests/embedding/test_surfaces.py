@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import corotate as cr
+from corotate.mesh import SOLID_ELEMENTS
 
 
 def enclosed_volume(s: cr.Mesh) -> float:
@@ -24,7 +25,7 @@ def edge_face_counts(s: cr.Mesh) -> np.ndarray:
     return np.unique(sides, axis=0, return_counts=True)[1]
 
 
-@pytest.mark.parametrize("element", ["tet4", "hex8", "hex20"])
+@pytest.mark.parametrize("element", SOLID_ELEMENTS)
 def test_boundary_of_a_box_is_closed_outward_and_encloses_its_volume(element):
     mesh = cr.box(size=(2.0, 1.0, 0.5), cells=(4, 2, 2), element=element)
     s = cr.boundary_surface(mesh)

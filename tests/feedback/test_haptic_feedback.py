@@ -10,6 +10,7 @@ import pytest
 
 import corotate as cr
 import corotate._core as _core
+from corotate.mesh import SOLID_ELEMENTS
 
 MAT = cr.Material(E=1e6, nu=0.3, density=1000.0)
 BODY_MODEL = {"linear": "linear", "corotational": "corotational", "averaged": "stvk"}
@@ -26,7 +27,7 @@ def deformed(points, seed):
     return (points + 0.05 * rng.standard_normal(points.shape)) @ rotation((1, 2, 3), 0.9).T + 0.3
 
 
-@pytest.mark.parametrize("element", ["tet4", "hex8", "hex20"])
+@pytest.mark.parametrize("element", SOLID_ELEMENTS)
 @pytest.mark.parametrize("method", ["linear", "corotational", "averaged"])
 def test_forces_are_the_full_models_forces_at_the_tool(element, method):
     mesh = cr.beam(2.0, 1.0, 1.0, cells=(4, 2, 2), element=element)

@@ -10,10 +10,11 @@ import scipy.sparse.linalg as spla
 
 import corotate as cr
 from corotate import _core
+from corotate.mesh import SOLID_ELEMENTS
 
 MAT = cr.Material(E=1e6, nu=0.3, density=1000.0)
 LAMBDA, MU = MAT.lame
-SOLIDS = ["tet4", "hex8", "hex20"]
+SOLIDS = SOLID_ELEMENTS  # every registered solid (the core's cell-type table)
 # Every hyperelastic law the core registers (models/registry.hpp): a new law is tested here
 # without editing this file.
 LAWS = [m for m in _core.model_names() if m not in ("linear", "corotational")]

@@ -7,8 +7,9 @@ import pytest
 
 import corotate as cr
 from corotate import _core
+from corotate.mesh import SOLID_ELEMENTS
 
-ELEMENTS = ["tet4", "hex8", "hex20"]
+ELEMENTS = SOLID_ELEMENTS  # every registered solid (the core's cell-type table)
 E, NU, RHO = 1e6, 0.3, 1000.0
 SIZE = (2.0, 1.0, 1.0)
 CELLS = (4, 2, 2)

@@ -18,35 +18,59 @@ from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
 BETA1 = 1.8751040687119611
 
 
+def face_shares(cell_type: str) -> np.ndarray:
+    """(nf, k): the consistent nodal shares of a uniform unit traction on each boundary face
+    of the reference cell, int N_a dA / area, from the element's own shape functions and
+    faces (the core's cell-type table). Bilinear quads: 1/4 each; 8-node serendipity faces:
+    -1/12 per corner and 1/3 per mid-edge node; 6-node triangles: 0 per corner, 1/3 per
+    mid-edge node. The faces' shape functions have degree <= 2 per direction, which the
+    4 x 4 Gauss rule integrates exactly."""
+    import corotate as cr
+    import corotate._core as _core
+
+    facts = cr.cell_types()[cell_type]
+    nodes = facts["reference_nodes"]
+    g, w = np.polynomial.legendre.leggauss(4)
+    u, v = np.meshgrid((g + 1) / 2, (g + 1) / 2, indexing="ij")
+    wu = np.outer(w, w).ravel() / 4
+    u, v = u.ravel(), v.ravel()
+    out = []
+    for face in facts["faces"]:
+        c = nodes[face]
+        if len(face) == 3:  # collapsed square onto the triangle: s = u, t = v (1 - u)
+            s, t, weight = u, v * (1 - u), wu * (1 - u)
+            points = c[0] + np.outer(s, c[1] - c[0]) + np.outer(t, c[2] - c[0])
+        else:  # bilinear map of the unit square onto the (planar, square) reference face
+            points = (
+                np.outer((1 - u) * (1 - v), c[0])
+                + np.outer(u * (1 - v), c[1])
+                + np.outer(u * v, c[2])
+                + np.outer((1 - u) * v, c[3])
+            )
+            weight = wu
+        values, _ = _core.shape_functions(cell_type, points)
+        out.append(weight @ values / weight.sum())
+    return np.array(out)
+
+
 def tip_face_weights(mesh, x_tip: float):
     """Nodes of the face x = x_tip and the consistent nodal shares of a uniform
-    traction on that face (shares sum to 1).
-
-    For a bilinear (hex8) quad face every corner gets 1/4 of the face's load. For the
-    8-node serendipity (hex20) face the consistent shares are -1/12 for each corner and
-    +1/3 for each mid-edge node, so equal shares would be wrong.
+    traction on that face (shares sum to 1), for any solid cell type (see face_shares).
     """
+    import corotate as cr
+
+    facts = cr.cell_types()[mesh.cell_type]
+    shares = face_shares(mesh.cell_type)
     tip = mesh.nodes_on_plane("x", x_tip)
     weight = np.zeros(mesh.n_nodes)
     on_face = np.abs(mesh.points[:, 0] - x_tip) <= 1e-9
-    n_corners = 8  # hex8 and hex20 both list their 8 corners first (VTK order)
     for cell in mesh.cells:
-        local = np.flatnonzero(on_face[cell])
-        if local.size == 0:
-            continue
-        corners = local[local < n_corners]
-        assert corners.size == 4, "a cell touches the tip plane only along an edge?"
-        p = mesh.points[cell[corners]]
-        area = np.ptp(p[:, 1]) * np.ptp(p[:, 2])  # axis-aligned structured faces
-        if mesh.cell_type == "hexahedron":
-            shares = {a: 0.25 for a in local}
-        elif mesh.cell_type == "hexahedron20":
-            assert local.size == 8
-            shares = {a: (-1.0 / 12.0 if a < n_corners else 1.0 / 3.0) for a in local}
-        else:
-            raise ValueError(f"no face rule for {mesh.cell_type}")
-        for a, s in shares.items():
-            weight[cell[a]] += s * area
+        for f, face in enumerate(facts["faces"]):
+            if not on_face[cell[face]].all():
+                continue
+            p = mesh.points[cell[face]]
+            fan = sum(np.cross(p[i] - p[0], p[i + 1] - p[0]) for i in range(1, len(face) - 1))
+            weight[cell] += shares[f] * 0.5 * np.linalg.norm(fan)
     w = weight[tip]
     assert np.isclose(w.sum(), np.ptp(mesh.points[:, 1]) * np.ptp(mesh.points[:, 2]))
     return tip, w / w.sum()

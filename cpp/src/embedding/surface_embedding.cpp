@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "corotate/elements/element_list.hpp"
 #include "corotate/embedding/element_search_grid.hpp"
 #include "corotate/embedding/local_coordinates.hpp"
 #include "corotate/fem/validate_mesh.hpp"
@@ -55,11 +56,8 @@ SurfaceEmbedding::SurfaceEmbedding(const std::string& cell_type, const Nodes& re
   vertices_ = vertices;
   triangles_ = triangles.rows() > 0 ? Triangles(triangles.transpose()) : Triangles(3, 0);
   num_body_nodes_ = rest.cols();
-  if (cell_type == "tetra") couple<Tet4>(rest, cells, settings);
-  else if (cell_type == "hexahedron") couple<Hex8>(rest, cells, settings);
-  else if (cell_type == "hexahedron20") couple<Hex20>(rest, cells, settings);
-  else
-    throw InvalidInput("a surface can be embedded in tetra, hexahedron or hexahedron20 cells, not '" + cell_type + "'");
+  visit_solid_element(cell_type, "embedding a surface",
+                      [&](auto tag) { couple<typename decltype(tag)::type>(rest, cells, settings); });
   rest_normals_.resize(3, vertices_.cols());
   vertex_normals(vertices_, rest_normals_);
 }

@@ -6,15 +6,6 @@
 
 namespace corotate {
 
-namespace {
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (size_t i = 0; i < names.size(); ++i)
-    out += (i ? (i + 1 == names.size() ? " or '" : ", '") : "'") + names[i] + "'";
-  return out;
-}
-}  // namespace
-
 void check_renamed_model(const std::string& name) {
   struct Renamed {
     const char *old_name, *new_name, *note;
@@ -31,12 +22,6 @@ void check_renamed_model(const std::string& name) {
 std::vector<std::string> model_names() {
   std::vector<std::string> names = {"linear", "corotational"};
   for (const auto& law : names_of(HyperelasticLaws{})) names.push_back(law);
-  return names;
-}
-
-std::vector<std::string> cell_type_names() {
-  std::vector<std::string> names = names_of(SolidElements{});
-  for (const auto& cell : names_of(MembraneElements{})) names.push_back(cell);
   return names;
 }
 

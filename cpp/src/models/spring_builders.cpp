@@ -5,19 +5,18 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "corotate/elements/cell_types.hpp"
 #include "corotate/elements/hex8.hpp"
+#include "corotate/elements/tet4.hpp"
 
 namespace corotate {
 
 namespace {
 
-// Hexahedron (VTK order) spring sets: edges, face diagonals, room diagonals.
-constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+// Hexahedron (VTK order) spring sets beyond its edges (Hex8::edges): face and room diagonals.
 constexpr int kHexFaceDiagonals[12][2] = {{0, 2}, {1, 3}, {4, 6}, {5, 7}, {0, 5}, {1, 4},
                                           {1, 6}, {2, 5}, {2, 7}, {3, 6}, {3, 4}, {0, 7}};
 constexpr int kHexRoomDiagonals[4][2] = {{0, 6}, {1, 7}, {2, 4}, {3, 5}};
-constexpr int kTetEdges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
 // Per-cell weights (see spring_builders.hpp): isotropic E, nu = 1/4 for cubic cells.
 constexpr double kLatticeEdge = 0.16, kLatticeFace = 0.16, kLatticeRoom = 0.54;
 
@@ -72,7 +71,7 @@ void check_common(double E, double density, double beta) {
 void add_hex(const int* c, double V, double E, double density, bool diagonals, SpringAccumulator& acc, Vec& masses) {
   const double EV = E * V;
   const double edge = diagonals ? kLatticeEdge : 0.5;
-  for (const auto& p : kHexEdges) acc.add_share(c[p[0]], c[p[1]], edge * EV, 0);
+  for (const auto& p : Hex8::edges) acc.add_share(c[p[0]], c[p[1]], edge * EV, 0);
   if (diagonals) {
     for (const auto& p : kHexFaceDiagonals) acc.add_share(c[p[0]], c[p[1]], kLatticeFace * EV, 1);
     for (const auto& p : kHexRoomDiagonals) acc.add_share(c[p[0]], c[p[1]], kLatticeRoom * EV, 2);
@@ -159,11 +158,12 @@ SpringSystem cube_lattice(const LatticeSettings& s) {
 SpringSystem springs_from_mesh(const Nodes& points, const Connectivity& cells, const std::string& cell_type,
                                double youngs_modulus, double density, double beta, bool diagonals) {
   check_common(youngs_modulus, density, beta);
-  const bool tet = cell_type == "tetra", hex = cell_type == "hexahedron";
+  // The spring weights below are derived for linear tets and cubic cells (spring_builders.hpp).
+  const bool tet = cell_type == Tet4::name, hex = cell_type == Hex8::name;
   if (!tet && !hex)
-    throw InvalidInput("mass-spring systems from meshes support tetra and hexahedron cells, not '" + cell_type + "'");
-  const int k = tet ? 4 : 8;
-  if (cells.cols() != k) throw InvalidInput(cell_type + " cells need " + std::to_string(k) + " nodes each");
+    throw InvalidInput(std::string("mass-spring systems from meshes support ") + Tet4::name + " and " + Hex8::name +
+                       " cells, not '" + cell_type + "'");
+  const Vec volumes = signed_cell_volumes(cell_type, points, cells);  // checks shapes and indices
   const Index n = points.cols();
   SpringSystem out;
   out.nodes = points;
@@ -172,32 +172,15 @@ SpringSystem springs_from_mesh(const Nodes& points, const Connectivity& cells, c
   out.cell_type = cell_type;
   SpringAccumulator acc(out.nodes);
   for (Index e = 0; e < cells.rows(); ++e) {
-    for (int a = 0; a < k; ++a)
-      if (cells(e, a) < 0 || cells(e, a) >= n) {
-        std::ostringstream msg;
-        msg << "cell " << e << " refers to node " << cells(e, a) << ", out of range [0, " << n << ")";
-        throw InvalidInput(msg.str());
-      }
     const int* c = &cells(e, 0);
-    double V = 0;
-    if (tet) {
-      Mat3 D;
-      for (int a = 0; a < 3; ++a) D.col(a) = points.col(c[a + 1]) - points.col(c[0]);
-      V = D.determinant() / 6.0;
-    } else {
-      Eigen::Matrix<double, 3, 8> X;
-      for (int a = 0; a < 8; ++a) X.col(a) = points.col(c[a]);
-      const auto& rule = Hex8::stiffness_rule();
-      for (size_t q = 0; q < rule.points.size(); ++q)
-        V += rule.weights[q] * (X * Hex8::shape_gradient(rule.points[q])).determinant();
-    }
+    const double V = volumes(e);
     if (!(V > 0)) {
       std::ostringstream msg;
       msg << cell_type << " cell " << e << " has non-positive volume " << V << " (degenerate or inverted)";
       throw InvalidInput(msg.str());
     }
     if (tet) {
-      for (const auto& p : kTetEdges) acc.add_share(c[p[0]], c[p[1]], youngs_modulus * V, 0);
+      for (const auto& p : Tet4::edges) acc.add_share(c[p[0]], c[p[1]], youngs_modulus * V, 0);
       for (int a = 0; a < 4; ++a) out.masses[c[a]] += density * V / 4;
     } else {
       add_hex(c, V, youngs_modulus, density, diagonals, acc, out.masses);

@@ -2,8 +2,7 @@
 centres, computed once; the stress of a modal state is then sum_i q_i sigma_i.
 
 sigma = lambda tr(eps) I + 2 mu eps with eps = sym(grad u), grad u = sum_a u_a (x) dN_a/dX at
-the element centre (the core's element centre gradients, for tetra, hexahedron and
-hexahedron20 cells).
+the element centre (the core's element centre gradients, for every solid cell type).
 """
 
 from __future__ import annotations
@@ -13,6 +12,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 import corotate._core as _core
+
+from ..mesh import VOLUME_CELL_TYPES
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -26,12 +27,10 @@ __all__ = ["centre_gradients", "linear_stress", "modal_stresses"]
 def centre_gradients(body: Body) -> np.ndarray:
     """(m, k, 3) shape-function gradients dN_a/dX at each element's centre."""
     mesh = body.mesh
-    if mesh.cell_type not in ("tetra", "hexahedron", "hexahedron20"):
-        raise ValueError(f"modal stresses need solid cells (tetra, hexahedron, hexahedron20), not {mesh.cell_type!r}")
-    material = body.material._core()
-    return np.array(
-        [_core.element_matrices(mesh.cell_type, mesh.points[cell], material)["centre_gradient"] for cell in mesh.cells]
-    )
+    if mesh.cell_type not in VOLUME_CELL_TYPES:
+        raise ValueError(f"modal stresses need solid cells ({', '.join(VOLUME_CELL_TYPES)}), not {mesh.cell_type!r}")
+    G = _core.centre_gradients(mesh.cell_type, mesh.points, mesh.cells)
+    return np.asarray(G).reshape(mesh.n_cells, -1, 3)
 
 
 def linear_stress(body: Body, displacement: ArrayLike, gradients: np.ndarray | None = None) -> np.ndarray:

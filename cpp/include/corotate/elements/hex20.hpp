@@ -3,15 +3,22 @@
 // 12:(4,5) 13:(5,6) 14:(6,7) 15:(7,4) 16:(0,4) 17:(1,5) 18:(2,6) 19:(3,7).
 #pragma once
 
-#include "corotate/elements/quadrature.hpp"
+#include "corotate/elements/hex8.hpp"
 
 namespace corotate {
 
 struct Hex20 {
-  static constexpr int num_nodes = 20;
-  static constexpr int dim = 3;  // a solid: reference coordinates span 3D
-  static constexpr int num_stiffness_points = 27;  // points of stiffness_rule()
   static constexpr const char* name = "hexahedron20";
+  static constexpr const char* generator_name = "hex20";
+  static constexpr ReferenceDomain domain = ReferenceDomain::cube;
+  static constexpr int dim = 3;  // a solid: reference coordinates span 3D
+  static constexpr int order = 2;
+  static constexpr int num_nodes = 20;
+  static constexpr int num_corners = 8;
+  static constexpr int num_stiffness_points = 27;  // points of stiffness_rule()
+  static constexpr auto edges = Hex8::edges;  // node 8 + i sits on edge i
+  static constexpr auto faces = Hex8::faces;
+  static constexpr auto corner_mirror = Hex8::corner_mirror;
   using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
   using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;
 

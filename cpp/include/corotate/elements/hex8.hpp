@@ -4,15 +4,26 @@
 
 #include <array>
 
+#include "corotate/elements/element_topology.hpp"
 #include "corotate/elements/quadrature.hpp"
 
 namespace corotate {
 
 struct Hex8 {
-  static constexpr int num_nodes = 8;
-  static constexpr int dim = 3;  // a solid: reference coordinates span 3D
-  static constexpr int num_stiffness_points = 8;  // points of stiffness_rule()
   static constexpr const char* name = "hexahedron";
+  static constexpr const char* generator_name = "hex8";
+  static constexpr ReferenceDomain domain = ReferenceDomain::cube;
+  static constexpr int dim = 3;  // a solid: reference coordinates span 3D
+  static constexpr int order = 1;
+  static constexpr int num_nodes = 8;
+  static constexpr int num_corners = 8;
+  static constexpr int num_stiffness_points = 8;  // points of stiffness_rule()
+  // In VTK's hexahedron20 mid-node order: the bottom ring, the top ring, the vertical edges.
+  static constexpr std::array<std::array<int, 2>, 12> edges = {
+      {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+  static constexpr std::array<std::array<int, 4>, 6> faces = {
+      {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
+  static constexpr std::array<int, 8> corner_mirror = {4, 5, 6, 7, 0, 1, 2, 3};  // bottom <-> top
   using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
   using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;
 

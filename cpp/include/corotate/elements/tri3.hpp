@@ -11,15 +11,24 @@
 
 #include <sstream>
 
-#include "corotate/common.hpp"
+#include "corotate/elements/element_topology.hpp"
 
 namespace corotate {
 
 struct Tri3 {
-  static constexpr int num_nodes = 3;
-  static constexpr int dim = 2;  // a membrane: reference coordinates span its rest plane
-  static constexpr int num_stiffness_points = 1;  // F is constant on the element
   static constexpr const char* name = "triangle";
+  static constexpr const char* generator_name = "tri3";
+  static constexpr ReferenceDomain domain = ReferenceDomain::simplex;
+  static constexpr int dim = 2;  // a membrane: reference coordinates span its rest plane
+  static constexpr int order = 1;
+  static constexpr int num_nodes = 3;
+  static constexpr int num_corners = 3;
+  static constexpr int num_stiffness_points = 1;  // F is constant on the element
+  static constexpr std::array<std::array<int, 2>, 3> edges = {{{0, 1}, {1, 2}, {2, 0}}};
+  static constexpr std::array<std::array<int, 3>, 0> faces = {};  // a sheet is its own surface
+  static constexpr std::array<int, 3> corner_mirror = {0, 2, 1};
+  // Reference coordinates of the nodes in the unit triangle (third entry unused).
+  static Vec3 node(int a) { return a == 0 ? Vec3::Zero() : Vec3(Vec3::Unit(a - 1)); }
   using NodeMatrix = Eigen::Matrix<double, 3, 3>;
   using Gradient = Eigen::Matrix<double, 3, 2>;
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "corotate/elements/element_list.hpp"  // cell_type_names
 #include "corotate/fem/element_kernel.hpp"
 #include "corotate/models/force_model.hpp"
 
@@ -13,15 +14,14 @@ namespace corotate {
 
 // model: "linear", "corotational" (co-rotated linear FEM, the paper's model), or a
 // hyperelastic law: "stvk" (St. Venant-Kirchhoff), "neohookean" (stable Neo-Hookean),
-// "fixed_corotated" (Stomakhin's fixed co-rotated law), "neohookean_log"; cell_type: "tetra", "hexahedron",
-// "hexahedron20" (every model) or "triangle" (membrane sheets, "stvk" only) (VTK/meshio names). rest: 3 x n; cells: m x
-// k node indices. Throws InvalidInput naming what is wrong.
+// "fixed_corotated" (Stomakhin's fixed co-rotated law), "neohookean_log"; cell_type: a registered
+// solid (every model) or membrane ("stvk" only) cell type (elements/element_list.hpp, VTK/meshio
+// names). rest: 3 x n; cells: m x k node indices. Throws InvalidInput naming what is wrong.
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
                                        const Connectivity& cells, const Material& material,
                                        const ModelOptions& options = ModelOptions());
 
 std::vector<std::string> model_names();      // every model name make_model accepts
-std::vector<std::string> cell_type_names();  // every cell type
 // The models available for a cell type (empty for an unknown one).
 std::vector<std::string> models_for_cell_type(const std::string& cell_type);
 
