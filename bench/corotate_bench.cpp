@@ -186,7 +186,7 @@ void usage() {
       "  --steps N           steps per run (default 100)\n"
       "  --dt SECONDS        time step (default 0.01)\n"
       "  --lumped            lumped instead of consistent mass\n"
-      "  --element E         the beam's element: tet4 (default: 6 tets per cube), hex8 or hex20\n"
+      "  --element E         the beam's element: tet4 (default: 6 tets per cube), tet10, hex8 or hex20\n"
       "                      (corotate.beam's mesh, node for node)\n"
       "  --write-mesh FILE   write the (first) beam's mesh as text (n m k, points, cells, cell type) and stop\n"
       "  --no-checks         skip the loud-failure checks (failure policy ignore; default: warn)\n"

@@ -14,6 +14,9 @@ Conventions
 
   - ``"tetra"`` (k = 4): nodes 0, 1, 2 form a triangle whose right-hand normal
     points towards node 3, which makes the signed volume positive.
+  - ``"tetra10"`` (k = 10): corners as ``"tetra"``, then the edge mid-nodes
+    4:(0,1) 5:(1,2) 6:(2,0) 7:(0,3) 8:(1,3) 9:(2,3) (Gmsh's second-order tet
+    after meshio's reordering).
   - ``"hexahedron"`` (k = 8): 0:(-,-,-) 1:(+,-,-) 2:(+,+,-) 3:(-,+,-), then
     4..7 the same at +z.
   - ``"hexahedron20"`` (k = 20): corners 0-7 as for the hexahedron, then the
@@ -210,8 +213,8 @@ class Mesh:
     def boundary_faces(self) -> np.ndarray:
         """The faces on the body's surface, oriented outward.
 
-        returns  (f, c) int64 corner nodes of each face: triangles for tetra,
-                 quads for hexahedron and hexahedron20 (the mid-edge nodes are
+        returns  (f, c) int64 corner nodes of each face: triangles for tetra and
+                 tetra10, quads for hexahedron and hexahedron20 (the mid-edge nodes are
                  left out). A face is on the surface when no other
                  cell shares it.
         """
@@ -463,6 +466,7 @@ def box(
                      of cells across bends in its plane of load (one diagonal
                      direction everywhere would twist it sideways, by 10% of the
                      deflection on a 4 x 4 cross-section);
+             "tet10": the same tets with a node in the middle of each edge;
              "hex8": one "hexahedron" per cuboid;
              "hex20": one "hexahedron20" per cuboid.
              Mid-edge nodes are shared with the neighbouring cells.
@@ -492,7 +496,7 @@ def beam(
     """A box from the origin: x in [0, length], y in [0, width], z in [0, height].
 
     cells    (3,) cuboids along x, y, z
-    element  "tet4", "hex8" or "hex20" (see :func:`box`)
+    element  "tet4", "tet10", "hex8" or "hex20" (see :func:`box`)
     returns  Mesh
     """
     return box(size=(length, width, height), cells=cells, element=element, origin=(0.0, 0.0, 0.0))

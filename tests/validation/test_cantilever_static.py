@@ -82,6 +82,18 @@ def test_small_load_tip_deflection_converges_to_timoshenko(element, meshes, fine
     assert max(errors) < 1e-3, errors
 
 
+def test_tet10_cantilever_converges_to_the_hex20_answer_where_tet4_locks():
+    hex20 = _tip_deflection_linear(L, B, H, (20, 2, 2), "hex20", P)
+    # Tet10 on (10, 2, 2) cuboids has 525 nodes against Hex20's 621 on (20, 2, 2).
+    # Measured: Tet10 -0.59 % on (5, 1, 1), -0.055 % on (10, 2, 2); Tet4 -42 % on (20, 2, 2).
+    errors = [_tip_deflection_linear(L, B, H, cells, "tet10", P) / hex20 - 1 for cells in [(5, 1, 1), (10, 2, 2)]]
+    assert abs(errors[-1]) < 0.01, errors
+    assert abs(errors[-1]) < abs(errors[0]), errors
+    # Linear tets on the finer grid lock in bending: far stiffer.
+    tet4 = _tip_deflection_linear(L, B, H, (20, 2, 2), "tet4", P)
+    assert tet4 / hex20 - 1 < -0.1, tet4 / hex20 - 1
+
+
 def test_poisson_clamp_effect_is_small():
     """With nu = 0.3 the fully clamped face restrains the lateral Poisson contraction and
     the 3D answer is slightly stiffer than Timoshenko theory (measured -1.0% on a 20x2x2

@@ -10,6 +10,7 @@
 
 #include "corotate/elements/hex20.hpp"
 #include "corotate/elements/hex8.hpp"
+#include "corotate/elements/tet10.hpp"
 #include "corotate/elements/tet4.hpp"
 #include "corotate/elements/tri3.hpp"
 
@@ -22,7 +23,7 @@ struct Tag {
   using type = T;
 };
 
-using SolidElements = TypeList<Tet4, Hex8, Hex20>;
+using SolidElements = TypeList<Tet4, Tet10, Hex8, Hex20>;
 using MembraneElements = TypeList<Tri3>;
 
 // Calls f(Tag<T>{}) for the T of the list whose T::name equals name; false if none does.

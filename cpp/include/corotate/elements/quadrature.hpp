@@ -12,12 +12,15 @@ struct QuadratureRule {
   std::vector<double> weights;  // sum to the reference volume
 };
 
-// Tensor-product Gauss-Legendre rule with n points per direction (n = 1, 2 or 3),
+// Tensor-product Gauss-Legendre rule with n points per direction (n = 1 to 4),
 // exact for polynomials of degree 2n-1 in each variable.
 QuadratureRule gauss_cube(int n);
 
 // Rules on the reference tet {xi, eta, zeta >= 0, xi + eta + zeta <= 1} (volume 1/6).
 QuadratureRule tet_centroid_rule();   // degree 1, one point
 QuadratureRule tet_degree2_rule();    // degree 2, four points
+// The conical product rule (Stroud): n^3 points from n-point Gauss-Legendre rules on the unit
+// cube mapped onto the tet by collapsing its faces; exact for total degree 2n - 3.
+QuadratureRule tet_collapsed_gauss(int n);
 
 }  // namespace corotate
