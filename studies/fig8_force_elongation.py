@@ -13,23 +13,20 @@ device must push with):
                 around the tool: the paper's use, a co-rotational simulation with the
                 feedback corrected where the device touches it;
   stvk          full nonlinear St. Venant-Kirchhoff equilibrium and reaction (the reference).
+
+    python -m studies.fig8_force_elongation --out force-elongation   # pull.csv, bend.csv, force_elongation.png
 """
 
 from __future__ import annotations
 
-import csv
-import os
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from .body import Body
-from .feedback import HapticFeedback
-from .material import Material
-from .mesh import beam
-from .scenes import pyplot
-from .simulation import Simulation
-from .solvers import Direct
+from corotate import Body, Direct, HapticFeedback, Material, Simulation, beam
+
+from ._common import output_folder, parser, pyplot, write_csv
 
 CURVES = ("linear", "corotational", "averaged", "stvk")
 LENGTH = 5.0
@@ -70,22 +67,15 @@ def force_curves(case: str = "pull", cells: tuple[int, int, int] = (20, 4, 4), l
     return result
 
 
-def write_csv(result: dict, path: str | os.PathLike[str]) -> Path:
+def write_table(result: dict, path: Path) -> Path:
     """One row per level: prescribed displacement [m], then the reaction of each curve [N]."""
-    path = Path(path)
-    with path.open("w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["displacement_m"] + [f"{c}_N" for c in CURVES])
-        for k, d in enumerate(result["displacement"]):
-            w.writerow([f"{d:.6e}"] + [f"{result[c][k]:.9e}" for c in CURVES])
-    return path
+    rows = ([d, *(float(result[c][k]) for c in CURVES)] for k, d in enumerate(result["displacement"]))
+    return write_csv(path, ["displacement_m"] + [f"{c}_N" for c in CURVES], rows)
 
 
-def plot(results: dict[str, dict], path: str | os.PathLike[str]) -> Path | None:
+def plot(results: dict[str, dict], path: Path) -> Path:
     """Fig. 8 (pull) beside the bending case: reaction force against prescribed displacement."""
     plt = pyplot()
-    if plt is None:
-        return None
     labels = {
         "linear": "linear",
         "corotational": "co-rotational (eq. 3)",
@@ -106,7 +96,31 @@ def plot(results: dict[str, dict], path: str | os.PathLike[str]) -> Path | None:
         )
         ax.grid(alpha=0.3)
     np.atleast_1d(axes)[0].legend()
-    path = Path(path)
     fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "force-elongation")
+    p.add_argument("--cells", type=int, nargs=3, default=(20, 4, 4), help="cubes per direction (default 20 4 4)")
+    p.add_argument("--levels", type=int, default=10, help="displacement levels (default 10)")
+    args = p.parse_args(argv)
+    out = output_folder(args.out)
+    results = {}
+    for case in ("pull", "bend"):
+        result = force_curves(case, tuple(args.cells), args.levels)
+        results[case] = result
+        write_table(result, out / f"{case}.csv")
+        print(f"{case}: {result['tets']} tets, {result['tool_elements']} around the tool; at the last level:")
+        reference = result["stvk"]
+        for c in CURVES:
+            gap = np.max(np.abs(result[c] - reference)) / np.max(np.abs(reference))
+            print(f"  {c:13s} {result[c][-1] / 1e6:9.4f} MN   max distance from StVK {100 * gap:6.1f} % of its peak")
+    png = plot(results, out / "force_elongation.png")
+    print(f"wrote {out / 'pull.csv'}, {out / 'bend.csv'} and {png}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -30,28 +30,31 @@ texture is a 512 x 512 checkerboard on spherical texture coordinates. Needs the 
 corotate-fem[mesh] (pytetwild, pyvista) for the cage and the render; without pyvista the
 rows (d) and (e) are skipped.
 
-    python bench/table1.py --data ../shared/data/armadillo_4k.vtu --out table1-out
-    taskset -c 1 python bench/table1.py --scales 1,10,100 --frames 100,20,5
-    taskset -c 1 python bench/table1.py --scales 1 --frames 100 --solvers default --phases 1000
+    python -m studies.table1_dog --data ../shared/data/armadillo_4k.vtu --out table1
+    taskset -c 1 python -m studies.table1_dog --scales 1,10,100 --frames 100,20,5
+    taskset -c 1 python -m studies.table1_dog --scales 1 --frames 100 --solvers default --phases 1000
 
 (--phases: no table, only the medians of a step's assembly, solve and whole call over that
 many single steps from rest, and the CG iterations per step.)
 
-Prints the table, writes OUT/table1.md, OUT/table1.json, OUT/table1_render.png (what rows (d)
+The armadillo is read from --data (default: ../shared/data/armadillo_4k.vtu beside the
+clone). Prints the table, writes OUT/table1.md, OUT/table1.json, OUT/table1.csv, OUT/table1_render.png (what rows (d)
 and (e) draw, at t = 1.5 s and 3 s, of the first scale) and OUT/table1.png (ratio and F/s
 next to the paper's E8500 column).
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 import corotate as cr
+
+from ._common import ARMADILLO, mesh_file, output_folder, parser, pyplot, write_csv, write_json
 
 # The paper draws in every row (on a GPU): FE mesh, vertices, the shaded surface (our d), textured.
 PAPER_E8500 = {"a": (5.20, 104), "b": (3.05, 61), "d": (2.47, 49), "e": (1.63, 33)}
@@ -165,13 +168,9 @@ def at_rest(body: cr.Body, fixed: np.ndarray, solver: str) -> cr.Simulation:
     return sim
 
 
-def render_frames(cage: cr.Mesh, render: cr.Mesh, solver: str, out: Path) -> Path | None:
+def render_frames(cage: cr.Mesh, render: cr.Mesh, solver: str, out: Path) -> Path:
     """OUT/table1_render.png: what rows (d) and (e) draw, at t = 1.5 s and 3 s."""
-    from corotate.scenes import pyplot
-
     plt = pyplot()
-    if plt is None:
-        return None
     body, fixed, surface = scene(cage, render)
     sim = at_rest(body, fixed, solver)
     renderers = {m: Renderer(surface, textured=m == "e") for m in "de"}
@@ -269,12 +268,8 @@ def phases(cage: cr.Mesh, render: cr.Mesh, steps: int, solver: str) -> dict[str,
     }
 
 
-def plot(table: dict, out: Path) -> Path | None:
-    from corotate.scenes import pyplot
-
+def plot(table: dict, out: Path) -> Path:
     plt = pyplot()
-    if plt is None:
-        return None
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     rows = list(ROWS)
     xs = np.arange(len(rows))
@@ -299,76 +294,34 @@ def plot(table: dict, out: Path) -> Path | None:
     return path
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--data", default="../shared/data/armadillo_4k.vtu", help="the armadillo tet mesh")
-    parser.add_argument("--out", default="table1-out", help="output folder (scene cache, table, plot)")
-    parser.add_argument("--scales", default="1,10,100", help="cage sizes as multiples of 700 tets")
-    parser.add_argument("--frames", default="100,20,4", help="frames timed per scale")
-    parser.add_argument("--modes", default="abcde", help="rows to time (default abcde)")
-    parser.add_argument("--repeats", type=int, default=3, help="interleaved repeats per mode (median; default 3)")
-    parser.add_argument(
+def _parser():
+    p = parser(__doc__, "table1")
+    p.add_argument("--data", default=str(ARMADILLO), help=f"the armadillo tet mesh (default {ARMADILLO})")
+    p.add_argument("--scales", default="1,10,100", help="cage sizes as multiples of 700 tets")
+    p.add_argument("--frames", default="100,20,4", help="frames timed per scale")
+    p.add_argument("--modes", default="abcde", help="rows to time (default abcde)")
+    p.add_argument("--repeats", type=int, default=3, help="interleaved repeats per mode (median; default 3)")
+    p.add_argument(
         "--solvers",
         default="default,pcg,pcg",
         help="linear solver per scale: default (cr.PCG()), two_level (cr.PCG() with the two-level preconditioner), "
         "direct (Cholesky each step) or pcg (two-level PCG to 1e-6)",
     )
-    parser.add_argument("--from-json", help="redo the table and plot from this table1.json without timing")
-    parser.add_argument(
+    p.add_argument("--from-json", help="redo the table and plot from this table1.json without timing")
+    p.add_argument(
         "--phases",
         type=int,
         metavar="STEPS",
         help="instead of the table: the medians of the assembly, the solve and the whole step() call over "
         "STEPS single steps (and CG iterations per step) for each scale",
     )
-    args = parser.parse_args()
-    out = Path(args.out)
-    scales = [int(s) for s in args.scales.split(",")]
-    frames = [int(f) for f in args.frames.split(",")]
-    solvers = args.solvers.split(",")
-    choices = [s for s in SOLVERS if s != "reference"]
-    if any(s not in choices for s in solvers) or not len(scales) == len(frames) == len(solvers):
-        parser.error(f"--scales, --frames and --solvers need one entry each per scale; solvers: {', '.join(choices)}")
-    modes = list(args.modes)
-    try:
-        import pyvista  # noqa: F401
-    except ImportError:
-        print("pyvista is not installed: rows (d) and (e) are skipped (pip install 'corotate-fem[mesh]')")
-        modes = [m for m in modes if m not in "de"]
-    table: dict[str, dict] = {}
-    if args.from_json:  # only the table and the plot, from an earlier run's results
-        table = json.loads(Path(args.from_json).read_text())
-        scales = []
-    if args.phases:
-        for scale, solver in zip(scales, solvers):
-            cage, render = build_scene(Path(args.data), 700 * scale, out / "scene")
-            p = phases(cage, render, args.phases, solver)
-            print(
-                f"{cage.n_cells} tets, {solver}, {args.phases} steps: assembly {p['assembly_ms']:.4f} ms",
-                f"({1e6 * p['assembly_ms'] / cage.n_cells:.0f} ns per tet), solve {p['solve_ms']:.4f} ms,",
-                f"step() {p['step_call_ms']:.4f} ms, {p['iterations']:.2f} CG iterations per step",
-            )
-        return 0
-    for scale, n_frames, solver in zip(scales, frames, solvers):
-        cage, render = build_scene(Path(args.data), 700 * scale, out / "scene")
-        name = f"{cage.n_cells} tets, {solver}"
-        print(
-            f"{name}, {cage.n_nodes} nodes; surface {render.n_nodes} vertices, {render.n_cells} faces;",
-            f"{n_frames} frames",
-        )
-        table[name] = run(cage, render, n_frames, modes, solver, args.repeats)
-        print(f"    surface: {table[name]['_report']}")
-        table[name]["_accuracy"] = deviation(cage, render, n_frames, solver)
-        acc = table[name]["_accuracy"]
-        print(
-            f"    off the reference over {n_frames} frames: tip {acc['tip_deviation_percent']:.3f} % of its",
-            f"{acc['tip_travel_m']:.3f} m travel, centroid {acc['centroid_deviation_percent']:.3f} % of",
-            f"{acc['centroid_travel_m']:.3f} m",
-        )
-        if scale == scales[0] and "d" in modes and "e" in modes:
-            frames_png = render_frames(cage, render, solver, out)
-            if frames_png:
-                print(f"wrote {frames_png}")
+    return p
+
+
+def write_tables(table: dict, out: Path) -> str:
+    """OUT/table1.md (the markdown table and the accuracy lines), OUT/table1.json (everything
+    measured), OUT/table1.csv (one row per scene and row: ratio and frames per second) and
+    OUT/table1.png; returns the markdown."""
     lines = ["| row | paper (E8500) | ratio | F/s | " + " | ".join(f"{n}: ratio | F/s" for n in table) + " |"]
     lines.append("| --- " * (4 + 2 * len(table)) + "|")
     for r in ROWS:
@@ -386,13 +339,66 @@ def main() -> int:
                 "(centroid) of their travel"
             )
     text = "\n".join(lines)
-    print(text)
-    out.mkdir(parents=True, exist_ok=True)
     (out / "table1.md").write_text(text + "\n")
-    (out / "table1.json").write_text(json.dumps(table, indent=1))
-    png = plot(table, out)
-    if png:
-        print(f"wrote {out / 'table1.md'} and {png}")
+    write_json(out / "table1.json", table)
+    rows = [[name, f"({r}) {ROWS[r]}", t[r]["ratio"], t[r]["fps"]] for name, t in table.items() for r in ROWS if r in t]
+    write_csv(out / "table1.csv", ["scene", "row", "real_time_ratio", "frames_per_second"], rows)
+    plot(table, out)
+    return text
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = _parser()
+    args = p.parse_args(argv)
+    out = output_folder(args.out)
+    scales = [int(s) for s in args.scales.split(",")]
+    frames = [int(f) for f in args.frames.split(",")]
+    solvers = args.solvers.split(",")
+    choices = [s for s in SOLVERS if s != "reference"]
+    if any(s not in choices for s in solvers) or not len(scales) == len(frames) == len(solvers):
+        p.error(f"--scales, --frames and --solvers need one entry each per scale; solvers: {', '.join(choices)}")
+    table: dict[str, dict] = {}
+    if args.from_json:  # only the table and the plot, from an earlier run's results
+        table = json.loads(Path(args.from_json).read_text())
+        scales = []
+    else:
+        data = mesh_file(p, args.data)
+    modes = list(args.modes)
+    try:
+        import pyvista  # noqa: F401
+    except ImportError:
+        print("pyvista is not installed: rows (d) and (e) are skipped (pip install 'corotate-fem[mesh]')")
+        modes = [m for m in modes if m not in "de"]
+    if args.phases:
+        for scale, solver in zip(scales, solvers):
+            cage, render = build_scene(data, 700 * scale, out / "scene")
+            ph = phases(cage, render, args.phases, solver)
+            print(
+                f"{cage.n_cells} tets, {solver}, {args.phases} steps: assembly {ph['assembly_ms']:.4f} ms",
+                f"({1e6 * ph['assembly_ms'] / cage.n_cells:.0f} ns per tet), solve {ph['solve_ms']:.4f} ms,",
+                f"step() {ph['step_call_ms']:.4f} ms, {ph['iterations']:.2f} CG iterations per step",
+            )
+        return 0
+    for scale, n_frames, solver in zip(scales, frames, solvers):
+        cage, render = build_scene(data, 700 * scale, out / "scene")
+        name = f"{cage.n_cells} tets, {solver}"
+        print(
+            f"{name}, {cage.n_nodes} nodes; surface {render.n_nodes} vertices, {render.n_cells} faces;",
+            f"{n_frames} frames",
+        )
+        table[name] = run(cage, render, n_frames, modes, solver, args.repeats)
+        print(f"    surface: {table[name]['_report']}")
+        table[name]["_accuracy"] = deviation(cage, render, n_frames, solver)
+        acc = table[name]["_accuracy"]
+        print(
+            f"    off the reference over {n_frames} frames: tip {acc['tip_deviation_percent']:.3f} % of its",
+            f"{acc['tip_travel_m']:.3f} m travel, centroid {acc['centroid_deviation_percent']:.3f} % of",
+            f"{acc['centroid_travel_m']:.3f} m",
+        )
+        if scale == scales[0] and "d" in modes and "e" in modes:
+            print(f"wrote {render_frames(cage, render, solver, out)}")
+    print(write_tables(table, out))
+    print(f"wrote {out / 'table1.md'}, {out / 'table1.json'}, {out / 'table1.csv'} and {out / 'table1.png'}")
     return 0
 
 

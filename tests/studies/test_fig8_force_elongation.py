@@ -5,8 +5,8 @@ co-rotationally, the averaged-stiffness feedback (eq. 5) is close to the full no
 from __future__ import annotations
 
 import numpy as np
-
-from corotate.force_elongation import force_curves
+import pytest
+from studies.fig8_force_elongation import CURVES, force_curves, main
 
 
 def distance(result, curve):
@@ -31,3 +31,14 @@ def test_bent_end():
     assert distance(r, "corotational") > 0.1
     assert distance(r, "averaged") < 0.05
     assert distance(r, "averaged") < distance(r, "corotational") / 3
+
+
+def test_the_study_writes_both_tables_and_the_picture(tmp_path):
+    pytest.importorskip("matplotlib")
+    assert main(["--out", str(tmp_path), "--cells", "5", "1", "1", "--levels", "2"]) == 0
+    for case, full in (("pull", 5.0), ("bend", 2.0)):
+        table = np.loadtxt(tmp_path / f"{case}.csv", delimiter=",", skiprows=1)
+        assert table.shape == (2, 1 + len(CURVES))
+        np.testing.assert_allclose(table[:, 0], [full / 2, full])
+        np.testing.assert_allclose(table[1, 1], 2 * table[0, 1], rtol=1e-6)  # the linear reaction
+    assert (tmp_path / "force_elongation.png").stat().st_size > 10_000

@@ -18,12 +18,12 @@ bends the cross member in its plane: the left arm toes out by 10-15 degrees (Fig
 Measured per arm: the mean displacement of its end face (the wheel) and the angles of the
 arm's least-squares rotation (intrinsic z-y-x angles): toe about the vertical z, pitch about y.
 
-    python bench/modal_axle.py [--out modal-axle]    # tables on stdout, PNG with matplotlib
+    python -m studies.fig13_14_axle --out axle    # wheel.csv, side.csv, axle.png (about 10 s)
 """
 
 from __future__ import annotations
 
-import argparse
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +31,8 @@ from scipy.spatial.transform import Rotation
 
 import corotate as cr
 from corotate.modal import ModalBody, PartialRotation, craig_bampton, least_squares_rotation
-from corotate.picture import _pyplot
+
+from ._common import output_folder, parser, pyplot, write_csv
 
 MATERIAL = cr.Material(E=2.1e11, nu=0.3, density=7850.0)
 ARM, WIDTH, STEP, STRIP = 0.8, 1.0, 0.1, 0.02
@@ -130,7 +131,7 @@ def print_table(case, forces, results) -> None:
 def plot(out: Path, runs) -> Path:
     """Three panels: wheel travel vs toe (Fig. 13), the side-loaded wheel's x vs toe (Fig. 14), and
     the wheel's path in x-z under the wheel load."""
-    plt = _pyplot()  # the package's matplotlib loader (Agg: files only)
+    plt = pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.5))
 
     def toe(s):
@@ -156,26 +157,36 @@ def plot(out: Path, runs) -> Path:
     axes[0].legend(fontsize=8)
     fig.suptitle("U-shaped axle, left wheel: modal variants against the full co-rotational solution")
     fig.tight_layout()
-    out.mkdir(parents=True, exist_ok=True)
     fig.savefig(out / "axle.png", dpi=110)
     return out / "axle.png"
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", default="modal-axle", help="output folder (PNG)")
-    args = parser.parse_args(argv)
+def write_table(path: Path, forces, results) -> Path:
+    """One row per force: F [N], then per variant the left wheel's x, y, z [m], toe and pitch [deg]."""
+    header = ["force_N"] + [f"{name}: {q}" for name in results for q in ("x_m", "y_m", "z_m", "toe_deg", "pitch_deg")]
+    rows = []
+    for k, F in enumerate(forces):
+        row = [float(F)]
+        for r in results.values():
+            (x, y, z), toe, pitch = r[k][0]
+            row += [float(x), float(y), float(z), float(toe), float(pitch)]
+        rows.append(row)
+    return write_csv(path, header, rows)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "axle")
+    p.add_argument("--levels", type=int, default=5, help="load levels per case (default 5)")
+    args = p.parse_args(argv)
+    out = output_folder(args.out)
     runs = {}
     for case, largest in CASES.items():
-        forces = largest * np.arange(1, 6) / 5
+        forces = largest * np.arange(1, args.levels + 1) / args.levels
         runs[case] = run(forces, case)
         print_table(case, forces, runs[case])
-    try:
-        path = plot(Path(args.out), runs)
-    except ImportError as err:
-        print(f"no plot: {err}")
-        return 0
-    print(f"wrote {path}")
+        write_table(out / f"{case}.csv", forces, runs[case])
+    path = plot(out, runs)
+    print(f"wrote {out / 'wheel.csv'}, {out / 'side.csv'} and {path}")
     return 0
 
 

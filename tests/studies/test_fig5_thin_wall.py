@@ -1,14 +1,12 @@
 """Fig. 5 of the paper: the artificial growth of linear FEM under a large rotation, and its
-absence in the co-rotational formulation (corotate scenes thinwall)."""
+absence in the co-rotational formulation (python -m studies.fig5_thin_wall)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from scipy.integrate import quad
-
-from corotate import cli
-from corotate.thin_wall import thin_wall
+from studies.fig5_thin_wall import main, thin_wall
 
 
 def euler_bernoulli_growth(bending: float) -> float:
@@ -37,10 +35,14 @@ def test_linear_plate_grows_and_corotational_plate_keeps_its_length():
     assert np.all(np.abs(corot) < 1e-3)
 
 
-def test_thinwall_scene_writes_both_series_and_a_picture(tmp_path, capsys):
+def test_the_study_writes_both_series_its_numbers_and_a_picture(tmp_path, capsys):
     pytest.importorskip("matplotlib")
-    assert cli.main(["scenes", "thinwall", "--out", str(tmp_path)]) == 0
+    assert main(["--out", str(tmp_path), "--frames", "3"]) == 0
     for model in ("linear", "corotational"):
-        assert (tmp_path / f"thinwall_{model}.pvd").read_text().count("<DataSet") == 13
+        assert (tmp_path / f"thinwall_{model}.pvd").read_text().count("<DataSet") == 4
+    table = np.loadtxt(tmp_path / "thinwall.csv", delimiter=",", skiprows=1)
+    assert table.shape == (4, 3)
+    np.testing.assert_allclose(table[:, 0] / table[-1, 0], [0, 1 / 3, 2 / 3, 1])
+    assert table[-1, 1] > 0.35 and abs(table[-1, 2]) < 1e-3  # linear grows, co-rotational does not
     assert (tmp_path / "thinwall.png").stat().st_size > 10_000
     assert "mid-line growth" in capsys.readouterr().out

@@ -7,24 +7,22 @@ of 1.3e10 N in -z is spread in equal shares over the top-face nodes of the corne
 x, y in [4, 5]: a force on a single node is a point load, whose displacement grows without
 bound as the mesh is refined (the paper notes the singularity), so it is not a fair measure
 of the formulations. The curves are the displacement of the corner node (5, 5, 1.5).
+
+    python -m studies.fig4_steel_block --out steel-block    # steel_block.csv, steel_block.png
 """
 
 from __future__ import annotations
 
-import csv
-import os
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .body import Body
-from .choices import ModelName
-from .material import Material
-from .mesh import box
-from .scenes import pyplot
-from .simulation import Simulation
-from .solvers import Direct
+from corotate import Body, Direct, Material, Simulation, box
+from corotate.choices import ModelName
+
+from ._common import output_folder, parser, pyplot, write_csv
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -61,22 +59,18 @@ def steel_block(cells: tuple[int, int, int] = (7, 7, 3), levels: int = 10, fract
     return result
 
 
-def write_csv(result: dict, path: str | os.PathLike[str]) -> Path:
+def write_table(result: dict, path: Path) -> Path:
     """One row per load level: load [N], then u_x, u_y, u_z [m] for each formulation."""
-    path = Path(path)
-    with path.open("w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["load_N"] + [f"{m}_u{a}_m" for m in MODELS for a in "xyz"])
-        for k, load in enumerate(result["load"]):
-            w.writerow([f"{load:.6e}"] + [f"{result[m][k, a]:.9e}" for m in MODELS for a in range(3)])
-    return path
+    header = ["load_N"] + [f"{m}_u{a}_m" for m in MODELS for a in "xyz"]
+    rows = (
+        [load, *(float(result[m][k, a]) for m in MODELS for a in range(3))] for k, load in enumerate(result["load"])
+    )
+    return write_csv(path, header, rows)
 
 
-def plot(result: dict, path: str | os.PathLike[str]) -> Path | None:
+def plot(result: dict, path: Path) -> Path:
     """The paper's Fig. 4: corner displacement in x, y and z against the load (PNG)."""
     plt = pyplot()
-    if plt is None:
-        return None
     labels = {"linear": "linear", "corotational": "co-rotational", "stvk": "full nonlinear (StVK)"}
     styles = {"linear": "k--", "corotational": "C0-o", "stvk": "C3-s"}
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.2), constrained_layout=True)
@@ -90,7 +84,28 @@ def plot(result: dict, path: str | os.PathLike[str]) -> Path | None:
         ax.grid(alpha=0.3)
     axes[0].legend()
     fig.suptitle(f"Steel block, corner node (5, 5, 1.5): {result['tets']} tets")
-    path = Path(path)
     fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "steel-block")
+    p.add_argument(
+        "--cells", type=int, nargs=3, default=(7, 7, 3), help="cubes per direction (default 7 7 3: 882 tets)"
+    )
+    p.add_argument("--levels", type=int, default=10, help="load levels (default 10)")
+    args = p.parse_args(argv)
+    out = output_folder(args.out)
+    result = steel_block(tuple(args.cells), args.levels)
+    print(f"{result['tets']} tets; corner (5, 5, 1.5) at the full load of {TOTAL_FORCE:.2g} N [mm]:")
+    for m in MODELS:
+        print(f"  {m:13s} " + "  ".join(f"u_{a} {1e3 * result[m][-1, k]:8.2f}" for k, a in enumerate("xyz")))
+    csv_path = write_table(result, out / "steel_block.csv")
+    png = plot(result, out / "steel_block.png")
+    print(f"wrote {csv_path} and {png}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -15,17 +15,13 @@ edges (through the thickness) clamped, a transverse force of up to 7,500 N at th
   CB + K_sigma (scaled)  the paper's alternative: (K_T - K_L) at a scaled mode shape
   reduced StVK           polynomial StVK forces on the CB basis + modal derivatives
 
-    python bench/modal_shell.py --out modal-shell     # table on stdout, modal-shell/shell.png
-
-The PNG needs matplotlib (pip install 'corotate-fem[plot]'); without it only the table is
-written.
+    python -m studies.fig10_flat_shell --out flat-shell   # shell.md, shell.csv, shell.png (about 2 minutes)
 """
 
 from __future__ import annotations
 
-import argparse
 import time
-from pathlib import Path
+from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse.linalg as sla
@@ -38,7 +34,8 @@ from corotate.modal.geometric_stiffness import (
     scaled_mode_geometric_stiffness,
 )
 from corotate.modal.reduced_stvk import modal_derivatives, reduced_stvk_tensors
-from corotate.picture import _pyplot
+
+from ._common import output_folder, parser, pyplot, write_csv
 
 LX, LY, T = 1.0, 0.8, 0.008
 MATERIAL = cr.Material(E=2.1e11, nu=0.3, density=7850.0)
@@ -139,15 +136,13 @@ def modal_curves(mesh, fixed, centre, load, levels, n_modes):
     return curves
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", default="modal-shell", help="output folder (table and PNG)")
-    parser.add_argument("--cells", type=int, nargs=2, default=(20, 16), help="Hex20 cells along x and y (even)")
-    parser.add_argument("--modes", type=int, default=12, help="fixed-boundary normal modes")
-    parser.add_argument("--levels", type=int, default=10, help="load levels up to 7,500 N")
-    args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "flat-shell")
+    p.add_argument("--cells", type=int, nargs=2, default=(20, 16), help="Hex20 cells along x and y (even)")
+    p.add_argument("--modes", type=int, default=12, help="fixed-boundary normal modes")
+    p.add_argument("--levels", type=int, default=10, help="load levels up to 7,500 N")
+    args = p.parse_args(argv)
+    out = output_folder(args.out)
 
     mesh, fixed, centre, load = shell(tuple(args.cells))
     levels = FORCE * np.arange(1, args.levels + 1) / args.levels
@@ -170,11 +165,9 @@ def main(argv=None):
     table = "\n".join(lines)
     print("mid-point deflection [mm]\n" + table)
     (out / "shell.md").write_text(table + "\n")
-    try:
-        plt = _pyplot()  # the package's matplotlib loader (Agg: files only)
-    except ImportError as err:
-        print(f"no plot: {err}")
-        return 0
+    rows = ([F, *(float(curves[n][k]) for n in names)] for k, F in enumerate(levels))
+    write_csv(out / "shell.csv", ["force_N"] + [f"{n} [m]" for n in names], rows)
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 5))
     for name in names:
         style = "k-" if name.startswith("full") else "--"
@@ -193,7 +186,7 @@ def main(argv=None):
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / "shell.png", dpi=120)
-    print(f"wrote {out / 'shell.png'}")
+    print(f"wrote {out / 'shell.md'}, {out / 'shell.csv'} and {out / 'shell.png'}")
     return 0
 
 

@@ -1,4 +1,4 @@
-"""Why capped, warm-started PCG runs away (bench/README.md, "The warm-start run-away").
+"""Why capped, warm-started PCG runs away (docs/notes/performance.md, the warm-start run-away).
 
 Two computations:
 
@@ -15,18 +15,23 @@ Two computations:
    Lanczos) and the Chebyshev bound q <= 1 / T_20((kappa + 1) / (kappa - 1)) on the part of the
    error left in the worst mode.
 
-Run: python bench/warm_start_runaway.py [--sizes 2,4,8]
+    python -m studies.warm_start_runaway --out warm-start [--sizes 2,4,8]
+writes spectral_radius.csv, jacobi_condition.csv and spectral_radius.png.
 """
 
 from __future__ import annotations
 
-import argparse
+from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import corotate as cr
+
+from ._common import output_folder, parser, pyplot, write_csv
+
+MODES = (1e-3, 1e-1, 1.0, 1e2, 1e4)  # s = dt^2 omega^2
 
 
 def spectral_radius(s: float, q: float, warm: bool) -> float:
@@ -52,26 +57,51 @@ def jacobi_condition_number(size: int, dt: float = 0.01) -> tuple[int, float]:
     return len(mesh.cells), float(largest / smallest)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--sizes", default="2,4,8", help="beam refinement factors (4 -> 15,360 tets, 8 -> 122,880)")
-    parser.add_argument("--iterations", type=int, default=20, help="the PCG cap")
-    args = parser.parse_args()
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "warm-start")
+    p.add_argument("--sizes", default="2,4,8", help="beam refinement factors (4 -> 15,360 tets, 8 -> 122,880)")
+    p.add_argument("--iterations", type=int, default=20, help="the PCG cap")
+    args = p.parse_args(argv)
+    out = output_folder(args.out)
 
     print("spectral radius of one step (> 1: the mode grows)")
     qs = (0.1, 0.3, 0.5, 0.6, 0.7, 0.9)
     print("s = dt^2 w^2 " + " ".join(f"  q={q}: cold  warm" for q in qs))
-    for s in (1e-3, 1e-1, 1.0, 1e2, 1e4):
+    for s in MODES:
         cells = " ".join(f"{spectral_radius(s, q, False):11.4f} {spectral_radius(s, q, True):5.3f}" for q in qs)
         print(f"{s:12g} {cells}")
+    grid = np.linspace(0.0, 0.95, 39)
+    rows = [[s, float(q), spectral_radius(s, q, False), spectral_radius(s, q, True)] for s in MODES for q in grid]
+    write_csv(out / "spectral_radius.csv", ["s", "q", "cold", "warm"], rows)
 
     print(f"\nJacobi-scaled rest system and the error left after {args.iterations} CG iterations")
     print("tets  kappa  Chebyshev bound on q")
+    rows = []
     for size in (int(s) for s in args.sizes.split(",")):
         tets, kappa = jacobi_condition_number(size)
         bound = 1.0 / np.cosh(args.iterations * np.arccosh((kappa + 1) / (kappa - 1)))
+        rows.append([tets, kappa, float(bound)])
         print(f"{tets}  {kappa:.0f}  {bound:.3f}")
+    write_csv(out / "jacobi_condition.csv", ["tets", "kappa", "chebyshev_bound_on_q"], rows)
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for k, s in enumerate(MODES):
+        ax.plot(grid, [spectral_radius(s, q, True) for q in grid], "-", color=f"C{k}", label=f"warm, s = {s:g}")
+        ax.plot(grid, [spectral_radius(s, q, False) for q in grid], ":", color=f"C{k}")
+    ax.axhline(1.0, color="k", linewidth=0.8)
+    ax.axvline(0.5, color="k", linewidth=0.8, linestyle="--")
+    ax.set_xlabel("q: fraction of a mode's error the capped solve leaves")
+    ax.set_ylabel("spectral radius of one step")
+    ax.set_title("Warm start (solid) against cold start (dotted)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out / "spectral_radius.png", dpi=110)
+    plt.close(fig)
+    print(f"wrote {out / 'spectral_radius.csv'}, {out / 'jacobi_condition.csv'} and {out / 'spectral_radius.png'}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -1,4 +1,4 @@
-"""The U-shaped axle of bench/modal_axle.py (§3.2, a stand-in for the paper's rear axle,
+"""The U-shaped axle of studies/fig13_14_axle.py (§3.2, a stand-in for the paper's rear axle,
 Figs. 13-14), against its full co-rotational solution.
 
 Wheel load: the two stiff arms pitch by 11 and 14 degrees in opposite directions, and pitch
@@ -18,18 +18,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from studies import fig13_14_axle as axle_study
 
 
 @pytest.fixture(scope="module")
-def axle(load_bench):
-    module = load_bench("modal_axle")
-
+def axle():
     def left_wheel(results):  # per variant and force: x, y, z [m], toe, pitch [deg]
         return {name: np.array([[*s[0][0], s[0][1], s[0][2]] for s in r]) for name, r in results.items()}
 
     return {
-        "wheel": left_wheel(module.run([18e3, 24e3], "wheel")),
-        "side": left_wheel(module.run([240e3, 300e3], "side")),
+        "wheel": left_wheel(axle_study.run([18e3, 24e3], "wheel")),
+        "side": left_wheel(axle_study.run([240e3, 300e3], "side")),
     }
 
 
@@ -65,3 +64,21 @@ def test_side_load_partial_rotation_helps_the_displacement_not_the_toe(axle):
     for variant in (modal, partial):
         excess = variant[:, 3] / full[:, 3] - 1
         assert np.all((excess > 0.02) & (excess < 0.08)), excess
+
+
+def test_the_study_writes_both_load_cases_and_the_picture(tmp_path):
+    pytest.importorskip("matplotlib")
+    assert axle_study.main(["--out", str(tmp_path), "--levels", "1"]) == 0
+    wheel = np.genfromtxt(tmp_path / "wheel.csv", delimiter=",", names=True)
+    side = np.genfromtxt(tmp_path / "side.csv", delimiter=",", names=True)
+    assert float(wheel["force_N"]) == 30e3 and float(side["force_N"]) == 300e3
+    # The full co-rotational left wheel at the largest loads, as the docs' tables give it
+    # [mm, deg]: wheel load -25.8, 13.8, -262.3; toe 1.40; side load -66.4, -178.1, -13.1; toe -13.95.
+    full = [name for name in wheel.dtype.names if name.startswith("full")]
+    np.testing.assert_allclose(
+        [1e3 * float(wheel[n]) for n in full[:3]] + [float(wheel[full[3]])], [-25.8, 13.8, -262.3, 1.40], atol=0.06
+    )
+    np.testing.assert_allclose(
+        [1e3 * float(side[n]) for n in full[:3]] + [float(side[full[3]])], [-66.4, -178.1, -13.1, -13.95], atol=0.06
+    )
+    assert (tmp_path / "axle.png").stat().st_size > 10_000

@@ -2,24 +2,25 @@
 large rotation, by linear FEM and by the co-rotational formulation side by side. Linear FEM
 moves every point along the straight tangent of its small-displacement path, so under a large
 rotation the plate grows (its mid-line lengthens), which does not look plausible; the
-co-rotational plate bends and keeps its length."""
+co-rotational plate bends and keeps its length.
+
+    python -m studies.fig5_thin_wall --out thin-wall
+writes thinwall_linear.pvd and thinwall_corotational.pvd (one frame per load level, for
+ParaView), thinwall.csv (mid-line growth per load level) and thinwall.png (both mid-lines).
+"""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
 
-from .body import Body
-from .material import Material
-from .mesh import Mesh, box
-from .output import TimeSeriesWriter
-from .simulation import Simulation
-from .solvers import Direct
+from corotate import Body, Direct, Material, Mesh, Simulation, TimeSeriesWriter, box
 
-__all__ = ["ThinWallResult", "thin_wall", "midline_length"]
+from ._common import output_folder, parser, pyplot, write_csv
 
 
 class ThinWallResult(NamedTuple):
@@ -46,7 +47,7 @@ def midline_length(positions: np.ndarray, nodes: np.ndarray) -> float:
 
 
 def thin_wall(
-    out: str | os.PathLike[str] | None = "corotate-scenes",
+    out: str | os.PathLike[str] | None = "thin-wall",
     cells: tuple[int, int] = (12, 2),
     frames: int = 12,
     bending: float = 3.0,
@@ -58,7 +59,7 @@ def thin_wall(
     linear and the co-rotational model.
 
     Writes OUT/thinwall_linear.pvd and OUT/thinwall_corotational.pvd (one frame per load
-    level) and OUT/thinwall.png (both mid-lines in the x-z plane, needs matplotlib); out=None
+    level), OUT/thinwall.csv and OUT/thinwall.png (both mid-lines in the x-z plane); out=None
     writes nothing. Returns the positions and the growth of the mid-line per frame.
     """
     length, width, thickness = 1.0, 0.2, 0.02
@@ -97,35 +98,46 @@ def thin_wall(
 
 
 def _write(result: ThinWallResult, out: Path, line: np.ndarray) -> None:
-    from .scenes import pyplot
-
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder(out)
     for model, frames_x in result.positions.items():
         with TimeSeriesWriter(out / f"thinwall_{model}.pvd", result.mesh) as writer:
             for k, x in enumerate(frames_x):
                 writer.write(float(k), x)  # "time" = load step
-    png = None
+    header = ["load_N"] + [f"{m}_midline_growth" for m in result.growth]
+    rows = ([load, *(float(g[k]) for g in result.growth.values())] for k, load in enumerate(result.load))
+    csv_path = write_csv(out / "thinwall.csv", header, rows)
     plt = pyplot()
-    if plt is not None:
-        fig, axes = plt.subplots(1, 2, figsize=(10, 4.5), sharey=True)
-        for ax, model, label in zip(axes, ("linear", "corotational"), ("a) linear FEM", "b) co-rotational FEM")):
-            for k in range(0, len(result.load), max(1, len(result.load) // 4)):
-                x = result.positions[model][k][line]
-                ax.plot(x[:, 0], x[:, 2], color=plt.cm.viridis(k / (len(result.load) - 1)), linewidth=1.5)
-            x = result.positions[model][-1][line]
-            ax.plot(x[:, 0], x[:, 2], "k", linewidth=2.5)
-            ax.plot([0, 1], [0.01, 0.01], "k--", linewidth=0.8)
-            ax.set_aspect("equal")
-            ax.set_xlabel("x [m]")
-            ax.set_title(f"{label}: mid-line {100 * result.growth[model][-1]:+.2f} % longer")
-        axes[0].set_ylabel("z [m]")
-        fig.suptitle("Thin Hex20 plate under a tip load (paper Fig. 5): increasing load, last frame black")
-        png = out / "thinwall.png"
-        fig.savefig(png, dpi=110, bbox_inches="tight")
-        plt.close(fig)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.5), sharey=True)
+    for ax, model, label in zip(axes, ("linear", "corotational"), ("a) linear FEM", "b) co-rotational FEM")):
+        for k in range(0, len(result.load), max(1, len(result.load) // 4)):
+            x = result.positions[model][k][line]
+            ax.plot(x[:, 0], x[:, 2], color=plt.cm.viridis(k / (len(result.load) - 1)), linewidth=1.5)
+        x = result.positions[model][-1][line]
+        ax.plot(x[:, 0], x[:, 2], "k", linewidth=2.5)
+        ax.plot([0, 1], [0.01, 0.01], "k--", linewidth=0.8)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_title(f"{label}: mid-line {100 * result.growth[model][-1]:+.2f} % longer")
+    axes[0].set_ylabel("z [m]")
+    fig.suptitle("Thin Hex20 plate under a tip load (paper Fig. 5): increasing load, last frame black")
+    png = out / "thinwall.png"
+    fig.savefig(png, dpi=110, bbox_inches="tight")
+    plt.close(fig)
     g = {m: f"{100 * v[-1]:+.1f} %" for m, v in result.growth.items()}
     rot = {m: f"{v:.0f} deg" for m, v in result.tip_rotation.items()}
-    print(f"corotate scenes thinwall: {result.mesh.n_cells} Hex20 cells; mid-line growth {g}, tip slope {rot}")
-    print(
-        f"  wrote {out / 'thinwall_linear.pvd'}, {out / 'thinwall_corotational.pvd'}" + (f" and {png}" if png else "")
-    )
+    print(f"thin wall: {result.mesh.n_cells} Hex20 cells; mid-line growth {g}, tip slope {rot}")
+    print(f"wrote {out / 'thinwall_linear.pvd'}, {out / 'thinwall_corotational.pvd'}, {csv_path} and {png}")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "thin-wall")
+    p.add_argument("--cells", type=int, nargs=2, default=(12, 2), help="Hex20 cells along x and y (default 12 2)")
+    p.add_argument("--frames", type=int, default=12, help="load levels (default 12)")
+    p.add_argument("--bending", type=float, default=3.0, help="the last load as P L^2 / EI (default 3)")
+    args = p.parse_args(argv)
+    thin_wall(args.out, tuple(args.cells), args.frames, args.bending)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

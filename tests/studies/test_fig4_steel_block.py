@@ -4,8 +4,7 @@ full nonlinear one."""
 
 import numpy as np
 import pytest
-
-from corotate.steel_block import steel_block, write_csv
+from studies.fig4_steel_block import main, steel_block, write_table
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +34,18 @@ def test_linear_curve_is_linear_and_csv_round_trips(curves, tmp_path):
     lin = curves["linear"]
     np.testing.assert_allclose(lin[1], 10 * lin[0], rtol=1e-9)
     np.testing.assert_allclose(lin[2], 100 * lin[0], rtol=1e-9)
-    path = write_csv(curves, tmp_path / "block.csv")
+    path = write_table(curves, tmp_path / "block.csv")
     table = np.loadtxt(path, delimiter=",", skiprows=1)
     np.testing.assert_allclose(table[:, 0], curves["load"])
     np.testing.assert_allclose(table[:, 7:10], curves["stvk"], rtol=1e-8)
+
+
+def test_the_study_writes_its_table_and_picture(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    assert main(["--out", str(tmp_path), "--cells", "3", "3", "1", "--levels", "2"]) == 0
+    table = np.loadtxt(tmp_path / "steel_block.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(table[:, 0], [0.65e10, 1.3e10])
+    # linear: the second level's displacement is twice the first's
+    np.testing.assert_allclose(table[1, 1:4], 2 * table[0, 1:4], rtol=1e-9)
+    assert (tmp_path / "steel_block.png").stat().st_size > 10_000
+    assert "54 tets" in capsys.readouterr().out

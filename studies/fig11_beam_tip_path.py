@@ -6,31 +6,29 @@ PL^2/EI = 2 (tip rotation ~45 degrees). The modal path scales the first mode; th
 turns each displacement by half the least-squares rotation of four representative points
 (corners at x = 3 and x = 10).
 
-    python bench/modal_beam_rotation.py --out modal-beam    # table on stdout, PNG with matplotlib
+    python -m studies.fig11_beam_tip_path --out beam-tip-path   # full.csv, modal.csv, beam_tip_path.png
 """
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
+from collections.abc import Sequence
 
 import numpy as np
 
 import corotate as cr
-from corotate.modal import craig_bampton
-from corotate.modal.partial_rotation import PartialRotation
-from corotate.picture import _pyplot
+from corotate.modal import PartialRotation, craig_bampton
+
+from ._common import output_folder, parser, pyplot, write_csv
 
 L, B, H = 10.0, 1.0, 0.5
 MATERIAL = cr.Material(E=1e7, nu=0.0, density=1000.0)
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", default="modal-beam", help="output folder")
-    args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "beam-tip-path")
+    p.add_argument("--levels", type=int, default=20, help="load levels of the full solution (default 20)")
+    args = p.parse_args(argv)
+    out = output_folder(args.out)
     mesh = cr.beam(L, B, H, cells=(10, 1, 1), element="hex20")
     fixed = mesh.nodes_on_plane("x", 0.0)
     tip = mesh.nodes_on_plane("x", L)
@@ -40,7 +38,7 @@ def main(argv=None) -> int:
     sim.fix(fixed)
     EI = MATERIAL.E * B * H**3 / 12
     full = [(0.0, 0.0)]
-    for load in np.linspace(0.1, 2.0, 20) * EI / L**2:
+    for load in np.linspace(2.0 / args.levels, 2.0, args.levels) * EI / L**2:
         sim.external_forces[tip, 2] = load / tip.size
         sim.solve_static(load_steps=2, tolerance=1e-8)
         full.append(tuple(weight @ sim.displacements[tip][:, [0, 2]]))
@@ -61,11 +59,13 @@ def main(argv=None) -> int:
             f"{z:9.3f} | {x:24.4f} | {np.interp(z, modal[:, 1], modal[:, 0]):7.4f} | "
             f"{np.interp(z, rotated[:, 1], rotated[:, 0]):8.4f}"
         )
-    try:
-        plt = _pyplot()  # the package's matplotlib loader (Agg: files only)
-    except ImportError as err:
-        print(f"no plot: {err}")
-        return 0
+    write_csv(out / "full.csv", ["tip_x_m", "tip_z_m"], full_path.tolist())
+    write_csv(
+        out / "modal.csv",
+        ["modal_tip_x_m", "modal_tip_z_m", "rotated_tip_x_m", "rotated_tip_z_m"],
+        np.column_stack([modal, rotated]).tolist(),
+    )
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(5, 6))
     ax.plot(L + full_path[:, 0], full_path[:, 1], "k-o", ms=3, label="full co-rotational")
     ax.plot(L + modal[:, 0], modal[:, 1], "--", label="modal (first mode)")
@@ -79,7 +79,7 @@ def main(argv=None) -> int:
     ax.set_title("Cantilever tip path (paper Fig. 11)")
     fig.tight_layout()
     fig.savefig(out / "beam_tip_path.png", dpi=120)
-    print(f"wrote {out / 'beam_tip_path.png'}")
+    print(f"wrote {out / 'full.csv'}, {out / 'modal.csv'} and {out / 'beam_tip_path.png'}")
     return 0
 
 
