@@ -51,10 +51,10 @@ def test_the_readme_is_at_most_200_lines():
     assert len((ROOT / "README.md").read_text().splitlines()) <= 200
 
 
-def test_every_guide_page_shows_code_that_prints():
+def test_every_guide_page_shows_code_that_runs():
     for page in sorted((ROOT / "docs" / "guide").glob("*.md")):
         if page.name != "index.md":
-            assert any(expected for _, expected, _ in examples(page)), page.name
+            assert examples(page), f"{page.name} has no python example"
 
 
 @pytest.mark.parametrize("page", pages_with_code())
