@@ -49,6 +49,14 @@ def pyplot() -> Any:
     return _pyplot()
 
 
+def save_figure(fig: Any, path: Path, dpi: int = 110) -> Path:
+    """Lay the figure out, write it as a PNG at path and close it."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    pyplot().close(fig)
+    return path
+
+
 def write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> Path:
     """One header row, then the rows (floats written with 9 significant digits)."""
     with path.open("w", newline="") as f:

@@ -35,7 +35,7 @@ from corotate.modal.geometric_stiffness import (
 )
 from corotate.modal.reduced_stvk import modal_derivatives, reduced_stvk_tensors
 
-from ._common import output_folder, parser, pyplot, write_csv
+from ._common import output_folder, parser, pyplot, save_figure, write_csv
 
 LX, LY, T = 1.0, 0.8, 0.008
 MATERIAL = cr.Material(E=2.1e11, nu=0.3, density=7850.0)
@@ -184,9 +184,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ax.set_title(f"Flat shell with clamped corners (paper Fig. 10), Hex20 {args.cells[0]} x {args.cells[1]} x 1")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "shell.png", dpi=120)
-    print(f"wrote {out / 'shell.md'}, {out / 'shell.csv'} and {out / 'shell.png'}")
+    png = save_figure(fig, out / "shell.png", dpi=120)
+    print(f"wrote {out / 'shell.md'}, {out / 'shell.csv'} and {png}")
     return 0
 
 

@@ -18,7 +18,7 @@ import numpy as np
 import corotate as cr
 from corotate.modal import PartialRotation, craig_bampton
 
-from ._common import output_folder, parser, pyplot, write_csv
+from ._common import output_folder, parser, pyplot, save_figure, write_csv
 
 L, B, H = 10.0, 1.0, 0.5
 MATERIAL = cr.Material(E=1e7, nu=0.0, density=1000.0)
@@ -77,9 +77,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ax.set_xlim(7.0, 10.5)
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title("Cantilever tip path (paper Fig. 11)")
-    fig.tight_layout()
-    fig.savefig(out / "beam_tip_path.png", dpi=120)
-    print(f"wrote {out / 'full.csv'}, {out / 'modal.csv'} and {out / 'beam_tip_path.png'}")
+    png = save_figure(fig, out / "beam_tip_path.png", dpi=120)
+    print(f"wrote {out / 'full.csv'}, {out / 'modal.csv'} and {png}")
     return 0
 
 

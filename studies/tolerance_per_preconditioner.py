@@ -18,7 +18,7 @@ import numpy as np
 
 import corotate as cr
 
-from ._common import output_folder, parser, pyplot, write_csv
+from ._common import output_folder, parser, pyplot, save_figure, write_csv
 from .scenes import SOFT, jittered_box
 
 
@@ -73,10 +73,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ax.set_title(f"Hanging bar, {mesh.n_cells} tets, {args.steps} steps")
     ax.grid(alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    fig.savefig(out / "tolerance.png", dpi=110)
-    plt.close(fig)
-    print(f"wrote {csv_path} and {out / 'tolerance.png'}")
+    png = save_figure(fig, out / "tolerance.png")
+    print(f"wrote {csv_path} and {png}")
     return 0
 
 

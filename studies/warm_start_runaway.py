@@ -29,7 +29,7 @@ import scipy.sparse.linalg as spla
 
 import corotate as cr
 
-from ._common import output_folder, parser, pyplot, write_csv
+from ._common import output_folder, parser, pyplot, save_figure, write_csv
 
 MODES = (1e-3, 1e-1, 1.0, 1e2, 1e4)  # s = dt^2 omega^2
 
@@ -96,10 +96,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ax.set_title("Warm start (solid) against cold start (dotted)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "spectral_radius.png", dpi=110)
-    plt.close(fig)
-    print(f"wrote {out / 'spectral_radius.csv'}, {out / 'jacobi_condition.csv'} and {out / 'spectral_radius.png'}")
+    png = save_figure(fig, out / "spectral_radius.png")
+    print(f"wrote {out / 'spectral_radius.csv'}, {out / 'jacobi_condition.csv'} and {png}")
     return 0
 
 

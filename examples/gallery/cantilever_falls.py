@@ -10,20 +10,13 @@ stiffness with the element, and the tip swings on an arc of about the beam's len
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from _gallery import arguments, save
 
 import corotate as cr
 
-plt.switch_backend("Agg")  # files only: no display needed
-
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-parser.add_argument("--out", default=".", help="folder for the picture")
-parser.add_argument("--small", action="store_true", help="a coarse mesh and a short run (for the tests)")
-args = parser.parse_args()
+args = arguments(__doc__)
 
 cells, frames = ((10, 2, 2), 20) if args.small else ((20, 4, 4), 60)
 mesh = cr.beam(5.0, 1.0, 1.0, cells=cells)
@@ -51,8 +44,4 @@ ax.set_xlabel("x [m]")
 ax.set_ylabel("z [m]")
 ax.set_title(f"Cantilever under gravity, {mesh.n_cells} tets, t = {sim.time:.1f} s")
 ax.legend(loc="lower left")
-fig.tight_layout()
-out = Path(args.out)
-out.mkdir(parents=True, exist_ok=True)
-fig.savefig(out / "cantilever_falls.png", dpi=110)
-print(f"wrote {out / 'cantilever_falls.png'}")
+save(fig, args.out, "cantilever_falls")

@@ -10,20 +10,13 @@ target; the spring's pull is what the hand would feel.
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from _gallery import arguments, save
 
 import corotate as cr
 
-plt.switch_backend("Agg")  # files only: no display needed
-
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-parser.add_argument("--out", default=".", help="folder for the picture")
-parser.add_argument("--small", action="store_true", help="a short run (for the tests)")
-args = parser.parse_args()
+args = arguments(__doc__)
 
 mesh = cr.beam(2.0, 0.5, 0.5, cells=(8, 2, 2))
 sim = cr.Simulation(cr.Body(mesh, cr.Material(E=1e6, nu=0.3, density=1000.0)), gravity=(0, 0, -9.81))
@@ -57,8 +50,4 @@ right.plot(0.05 * np.arange(1, frames + 1), pulls)
 right.set_xlabel("t [s]")
 right.set_ylabel("pull on the node [N]")
 right.set_title("Attachment force")
-fig.tight_layout()
-out = Path(args.out)
-out.mkdir(parents=True, exist_ok=True)
-fig.savefig(out / "dragging.png", dpi=110)
-print(f"wrote {out / 'dragging.png'}")
+save(fig, args.out, "dragging")

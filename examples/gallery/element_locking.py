@@ -12,19 +12,12 @@ Hex20 mesh; Timoshenko beam theory is printed beside it.
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
-
 import matplotlib.pyplot as plt
+from _gallery import arguments, save
 
 import corotate as cr
 
-plt.switch_backend("Agg")  # files only: no display needed
-
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-parser.add_argument("--out", default=".", help="folder for the picture")
-parser.add_argument("--small", action="store_true", help="coarse meshes only (for the tests)")
-args = parser.parse_args()
+args = arguments(__doc__)
 
 L, H, LOAD = 10.0, 1.0, 100.0  # m, m, N
 material = cr.Material(E=1e7, nu=0.3, density=1000.0)
@@ -66,8 +59,4 @@ ax.set_ylabel("tip deflection / converged")
 ax.set_title("Cantilever 10 x 1 x 1 m under a tip load: locking of linear elements")
 ax.grid(alpha=0.3)
 ax.legend()
-fig.tight_layout()
-out = Path(args.out)
-out.mkdir(parents=True, exist_ok=True)
-fig.savefig(out / "element_locking.png", dpi=110)
-print(f"wrote {out / 'element_locking.png'}")
+save(fig, args.out, "element_locking")

@@ -9,21 +9,14 @@ assigned to once, with fixed weights, and the surface normals are recomputed.
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from _gallery import arguments, save
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
 import corotate as cr
 
-plt.switch_backend("Agg")  # files only: no display needed
-
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-parser.add_argument("--out", default=".", help="folder for the picture")
-parser.add_argument("--small", action="store_true", help="a coarser surface and a short run (for the tests)")
-args = parser.parse_args()
+args = arguments(__doc__)
 
 cage = cr.box((2.0, 1.0, 1.0), cells=(6, 3, 3), element="tet4")
 body = cr.Body(cage, cr.Material(E=2e5, nu=0.3, density=1000.0))
@@ -59,7 +52,4 @@ ax.set_zticks([-1, 0])
 ax.set_box_aspect((2, 2, 2))
 ax.view_init(12, -70)
 ax.set_title(f"Embedded sphere in a sagging {cage.n_cells}-tet cage, t = {sim.time:.1f} s")
-out = Path(args.out)
-out.mkdir(parents=True, exist_ok=True)
-fig.savefig(out / "embedded_surface.png", dpi=110, bbox_inches="tight")
-print(f"wrote {out / 'embedded_surface.png'}")
+save(fig, args.out, "embedded_surface")

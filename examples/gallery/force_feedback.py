@@ -10,20 +10,13 @@ paper's averaged stiffness (eq. 5), which follows the stiffening a large bend br
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from _gallery import arguments, save
 
 import corotate as cr
 
-plt.switch_backend("Agg")  # files only: no display needed
-
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-parser.add_argument("--out", default=".", help="folder for the picture")
-parser.add_argument("--small", action="store_true", help="a coarse mesh and fewer steps (for the tests)")
-args = parser.parse_args()
+args = arguments(__doc__)
 
 cells, steps = ((6, 2, 2), 30) if args.small else ((12, 3, 3), 100)
 mesh = cr.beam(1.0, 0.2, 0.2, cells=cells, element="tet4")
@@ -52,8 +45,4 @@ ax.set_ylabel("force the device pushes with [N]")
 ax.set_title("Force feedback at a tool, three methods")
 ax.grid(alpha=0.3)
 ax.legend()
-fig.tight_layout()
-out = Path(args.out)
-out.mkdir(parents=True, exist_ok=True)
-fig.savefig(out / "force_feedback.png", dpi=110)
-print(f"wrote {out / 'force_feedback.png'}")
+save(fig, args.out, "force_feedback")

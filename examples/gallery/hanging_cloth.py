@@ -9,20 +9,14 @@ Verlet) in frames of 1/60 s, each split into as many substeps as the critical ti
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
-import matplotlib.pyplot as plt
+from _gallery import arguments
 
 import corotate as cr
 from corotate.scenes import plot_springs
 
-plt.switch_backend("Agg")  # files only: no display needed
-
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-parser.add_argument("--out", default=".", help="folder for the picture")
-parser.add_argument("--small", action="store_true", help="a coarse cloth and a short run (for the tests)")
-args = parser.parse_args()
+args = arguments(__doc__)
 
 n, frames = (8, 30) if args.small else (24, 90)
 cloth = cr.MassSpringBody.cloth(n, n, size=(1.0, 1.0), E=5e5, thickness=1e-3, density=200.0, bending=0.01, beta=1e-5)
@@ -30,8 +24,8 @@ sim = cr.ExplicitSimulation(cloth, dt=1 / 60, gravity=(0, 0, -9.81), mass_dampin
 sim.fix([cloth.n_nodes - n, cloth.n_nodes - 1])  # the two corners of the edge y = 1
 sim.step(frames)
 print(
-    f"{cloth.n_nodes} particles, {cloth.n_springs} springs; {frames} frames in "
-    f"{sim.stats['last_substeps']} substeps of {sim.critical_time_step:.2e} s each; "
+    f"{cloth.n_nodes} particles, {cloth.n_springs} springs; {frames} frames of 1/60 s, "
+    f"{sim.stats['last_substeps']} substeps of {sim.critical_time_step:.2e} s per frame; "
     f"lowest point z = {sim.positions[:, 2].min():.2f} m"
 )
 out = Path(args.out)

@@ -10,21 +10,14 @@ co-rotational simulation of the same mesh, each step a 9 x 9 solve instead of a 
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from _gallery import arguments, save
 
 import corotate as cr
 from corotate.modal import ModalBody, craig_bampton
 
-plt.switch_backend("Agg")  # files only: no display needed
-
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-parser.add_argument("--out", default=".", help="folder for the picture")
-parser.add_argument("--small", action="store_true", help="a short run (for the tests)")
-args = parser.parse_args()
+args = arguments(__doc__)
 
 mesh = cr.beam(8.0, 1.0, 1.0, cells=(8, 1, 1), element="hex20")
 material = cr.Material(E=1e7, nu=0.3, density=1000.0)
@@ -63,8 +56,4 @@ ax.set_ylabel("tip z displacement [m]")
 ax.set_title(f"Cantilever under a tip load: {basis.size} modal coordinates against {3 * mesh.n_nodes} unknowns")
 ax.grid(alpha=0.3)
 ax.legend()
-fig.tight_layout()
-out = Path(args.out)
-out.mkdir(parents=True, exist_ok=True)
-fig.savefig(out / "modal_beam.png", dpi=110)
-print(f"wrote {out / 'modal_beam.png'}")
+save(fig, args.out, "modal_beam")
