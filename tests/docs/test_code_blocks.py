@@ -6,6 +6,8 @@ page's later blocks build on its earlier ones), in a fresh folder. A block follo
 by an HTML comment "<!-- not run: reason -->" is skipped (it needs a display or data the tests
 do not have)."""
 
+from __future__ import annotations
+
 import contextlib
 import io
 import re
