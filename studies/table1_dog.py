@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 import corotate as cr
+from corotate.meshing import mesher_available
 
 from ._common import ARMADILLO, mesh_file, output_folder, parser, pyplot, write_csv, write_json
 
@@ -363,6 +364,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         scales = []
     else:
         data = mesh_file(p, args.data)
+        if not mesher_available():
+            p.error("the cages are made by corotate.tetrahedralize (fTetWild): pip install 'corotate-fem[mesh]'")
     modes = list(args.modes)
     try:
         import pyvista  # noqa: F401

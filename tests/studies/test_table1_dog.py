@@ -59,3 +59,13 @@ def test_the_tables_and_the_plot_are_written_from_a_run_s_results(tmp_path):
     ]
     assert json.loads((tmp_path / "table1.json").read_text()) == {"700 tets, default": run}
     assert (tmp_path / "table1.png").stat().st_size > 10_000
+
+
+def test_without_the_mesher_the_extra_is_named(tmp_path, capsys, monkeypatch):
+    data = tmp_path / "armadillo_4k.vtu"
+    cr.write_mesh(data, cr.box((1.0, 1.0, 1.0), cells=(1, 1, 1)))
+    monkeypatch.setattr(table1, "mesher_available", lambda: False)
+    with pytest.raises(SystemExit) as exit_:
+        table1.main(["--data", str(data), "--out", str(tmp_path / "out")])
+    assert exit_.value.code == 2
+    assert "corotate-fem[mesh]" in capsys.readouterr().err
