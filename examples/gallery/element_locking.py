@@ -1,6 +1,6 @@
 """Which element for bending: tip deflection of a cantilever against mesh refinement.
 
-A 10 x 1 x 1 m steel-like cantilever (E = 1e7 Pa, nu = 0.3), clamped at x = 0, carries a
+A 10 x 1 x 1 m cantilever (E = 1e7 Pa, nu = 0.3), clamped at x = 0, carries a
 small tip load (linear statics). Linear tetrahedra (Tet4) and trilinear hexahedra (Hex8)
 cannot represent the linear variation of bending strain across an element, and resist bending
 with spurious shear: coarse meshes of them are too stiff ("locking"). Quadratic hexahedra
