@@ -32,7 +32,7 @@ def test_the_printed_table_becomes_csv():
 
 def test_the_results_files_have_one_cell_per_column():
     for path in (SCRIPT.parent / "results").glob("*.csv"):
-        rows = list(csv.reader(path.open()))
+        rows = list(csv.reader(path.read_text().splitlines()))
         assert len(rows) > 1 and {len(r) for r in rows} == {len(rows[0])}, path.name
 
 
