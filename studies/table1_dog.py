@@ -35,7 +35,8 @@ rows (d) and (e) are skipped.
     taskset -c 1 python -m studies.table1_dog --scales 1 --frames 100 --solvers default --phases 1000
 
 (--phases: no table, only the medians of a step's assembly, solve and whole call over that
-many single steps from rest, and the CG iterations per step.)
+many single steps from rest, and the CG iterations per step, printed and written to
+OUT/phases.json.)
 
 The armadillo is read from --data (default: ../shared/data/armadillo_4k.vtu beside the
 clone). Prints the table, writes OUT/table1.md, OUT/table1.json, OUT/table1.csv, OUT/table1_render.png (what rows (d)
@@ -373,14 +374,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("pyvista is not installed: rows (d) and (e) are skipped (pip install 'corotate-fem[mesh]')")
         modes = [m for m in modes if m not in "de"]
     if args.phases:
+        measured = {}
         for scale, solver in zip(scales, solvers):
             cage, render = build_scene(data, 700 * scale, out / "scene")
-            ph = phases(cage, render, args.phases, solver)
+            ph = measured[f"{cage.n_cells} tets, {solver}"] = phases(cage, render, args.phases, solver)
             print(
                 f"{cage.n_cells} tets, {solver}, {args.phases} steps: assembly {ph['assembly_ms']:.4f} ms",
                 f"({1e6 * ph['assembly_ms'] / cage.n_cells:.0f} ns per tet), solve {ph['solve_ms']:.4f} ms,",
                 f"step() {ph['step_call_ms']:.4f} ms, {ph['iterations']:.2f} CG iterations per step",
             )
+        print(f"wrote {write_json(out / 'phases.json', measured)}")
         return 0
     for scale, n_frames, solver in zip(scales, frames, solvers):
         cage, render = build_scene(data, 700 * scale, out / "scene")
