@@ -41,3 +41,4 @@ autodoc_class_signature = "separated"
 html_theme = "furo"
 html_title = f"corotate {release}"
 html_static_path = ["_static"]
+html_css_files = ["corotate.css"]

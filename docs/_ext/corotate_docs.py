@@ -8,8 +8,8 @@
 - The guide's optional pages: docs/guide/sweeps.md joins the guide's toctree when it exists.
 - Docstrings: the library's docstrings are plain text in the libigl manner (aligned
   "name  description" rows with the shapes of arrays). A paragraph that is not clean
-  reStructuredText, or whose rows are aligned in columns, is shown as a literal block, as it
-  reads in the source; clean prose stays prose.
+  reStructuredText, or whose rows are aligned in columns, is shown as a plain-text block, as
+  it reads in the source; clean prose stays prose.
 """
 
 from __future__ import annotations
@@ -98,7 +98,8 @@ def plain_text_as_literal(lines: list[str], env: Any = None) -> list[str]:
             literal = False
         else:
             if not literal:
-                out += ["", "::", ""] if out else ["::", ""]
+                start = [".. code-block:: text", ""]  # plain text: no syntax colours on prose
+                out += ["", *start] if out else start
             else:
                 out.append("")
             out += ["    " + line for line in block]
