@@ -6,7 +6,7 @@ rises for two seconds of simulated time in frames of 0.05 s.
 Needs the extra ``corotate-fem[view]`` and a display; on a machine without one, a virtual
 X server with Mesa's software OpenGL does it:
 
-    xvfb-run -s "-screen 0 1280x800x24" python examples/view_screenshot.py docs/view.png
+    xvfb-run -s "-screen 0 1280x800x24" python examples/view_screenshot.py docs/_static/images/view.png
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Command line: ``corotate demo`` (the main job), ``corotate view`` (live, with the mouse), ``corotate scenes``
-(mass-spring) and ``corotate bench``."""
+(explicit mass-spring and StVK scenes) and ``corotate bench``."""
 
 from __future__ import annotations
 
@@ -129,20 +129,16 @@ def _view(args: argparse.Namespace) -> int:
 def _scenes(args: argparse.Namespace) -> int:
     from . import scenes
 
-    names = ["cloth", "cube", "sheet", "thinwall"] if args.scene == "all" else [args.scene]
+    names = ["cloth", "cube", "sheet"] if args.scene == "all" else [args.scene]
     if "cloth" in names:
         scenes.hanging_cloth(args.out, n=args.cloth_size, frames=args.frames, integrator=args.integrator)
     if "cube" in names:
         scenes.dropped_cube(args.out, cells=args.cube_cells, frames=args.frames, integrator=args.integrator)
     if "sheet" in names:
         scenes.stvk_sheet(args.out, frames=args.frames)
-    if "thinwall" in names:
-        from .thin_wall import thin_wall
-
-        thin_wall(args.out)
     print(
         "  open the .pvd files in ParaView (the cloth as quads, the cube as hexahedra, the sheet as triangles, "
-        "the thin plates as hexahedron20; colour by 'displacement')"
+        "colour by 'displacement')"
     )
     return 0
 
@@ -252,22 +248,20 @@ def _add_other_commands(parser: argparse.ArgumentParser, sub: Any) -> argparse.A
 
     scenes = sub.add_parser(
         "scenes",
-        help="scenes: a cloth hanging from two corners, a soft cube dropped on a base, a StVK sheet swinging, "
-        "a thin Hex20 plate bent by linear and co-rotational FEM (the paper's Fig. 5)",
+        help="scenes: a cloth hanging from two corners, a soft cube dropped on a base, a StVK sheet swinging",
         description="Bodies stepped explicitly (frames of 1/60 s, sub-stepped at the critical time step): a "
         "mass-spring cloth pinned at two corners falls and swings; a soft mass-spring cube lattice "
         "lands on a pinned base; the explainer's 2D St. Venant-Kirchhoff sheet of triangles swings "
-        "from two corners (symplectic Euler). 'thinwall' (the paper's Fig. 5): a thin Hex20 plate bent through a "
-        "large rotation by a rising tip load, linear vs co-rotational FEM (static equilibria), showing the "
-        "artificial growth of the linear one. Writes OUT/cloth.pvd, OUT/cube.pvd, OUT/sheet.pvd, "
-        "OUT/thinwall_linear.pvd and OUT/thinwall_corotational.pvd (+ .vtu frames) and a PNG of each "
-        "(PNG needs matplotlib: pip install matplotlib, or the extra 'corotate-fem[plot]').",
+        "from two corners (symplectic Euler). Writes OUT/cloth.pvd, OUT/cube.pvd and OUT/sheet.pvd (+ .vtu frames) "
+        "and a PNG of each (PNG needs matplotlib: pip install matplotlib, or the extra 'corotate-fem[plot]'). "
+        "The paper's figures (the thin plate of Fig. 5 among them) are reproduced by the scripts in the "
+        "repository's studies/ folder.",
     )
     scenes.add_argument(
         "scene",
         nargs="?",
         default="all",
-        choices=["all", "cloth", "cube", "sheet", "thinwall"],
+        choices=["all", "cloth", "cube", "sheet"],
         help="which scene (default all)",
     )
     scenes.add_argument("--out", default="corotate-scenes", help="output folder (default: corotate-scenes)")

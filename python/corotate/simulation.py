@@ -38,7 +38,7 @@ class Simulation(DrivenBody):
                 (relative to the loads and momentum); beta must be 0 then.
     newton_iterations, newton_tolerance   limits of the "newton" integrator (20, 1e-6)
 
-    See cpp/include/corotate/integrators/implicit_euler.hpp for the derivations.
+    The derivations: cpp/include/corotate/integrators/implicit_integrator.hpp.
 
     positions, velocities and external_forces are (n, 3) float64 NumPy views of the state
     held in C++: no copies. Write into them between steps to move fixed nodes or apply

@@ -38,7 +38,7 @@ class PCG:
     warm_start      start each solve from the previous step's answer
 
     The defaults are the fastest setting found to stay within 1% of a converged solve on
-    the benchmark beam (bench/README.md).
+    the benchmark beam (docs: benchmarks, performance notes).
     """
 
     max_iterations: int = _DEFAULTS.max_iterations

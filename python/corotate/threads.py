@@ -3,7 +3,7 @@
 The element sweep of a step (rotations, forces, stiffness assembly), the matrix-vector
 products and the block-Jacobi smoother of PCG run on this many threads when the core was
 built with OpenMP (``have_openmp()``). Results do not depend on it: a run on two threads
-repeats a one-thread run to the last bit (bench/README.md has the speed-ups).
+repeats a one-thread run to the last bit (docs/benchmarks.md has the speed-ups).
 """
 
 from __future__ import annotations

@@ -60,7 +60,7 @@ def test_capped_warm_started_jacobi_runs_away_and_is_caught():
 
 def test_a_slow_run_away_is_caught_within_tens_of_steps():
     # 7 warm-started Jacobi iterations leave about half of the error in the worst mode, near
-    # the threshold of the warm-start instability (bench/README.md): the energy creeps up
+    # the threshold of the warm-start instability (docs/notes/performance.md): the energy creeps up
     # and the tip reaches 134 m only after 400 steps, with no stalled solve on the way. The
     # energy, compared with the lowest it reached since the body was last driven, shows the
     # run-away at step 23 while the tip is at -0.37 m.

@@ -2,27 +2,17 @@
 configuration its coarse level was built at. The coarse level used to stay frozen at the rest
 state: on a turned body its rigid-body modes and factorized coarse matrix were wrong, the
 capped solves left more than half of the error, and the warm start fed it back (the run-away
-of bench/README.md; the armadillo hanging from a point ran away under cr.PCG()). It now turns
+of docs/notes/performance.md; the armadillo hanging from a point ran away under cr.PCG()). It now turns
 each aggregate's coarse space with the body (two_level_preconditioner.hpp). Both scenes are
 irregular meshes the project makes itself: a structured box with jittered interior nodes."""
 
 import numpy as np
 import pytest
+from studies.scenes import SOFT, jittered_box
 
 import corotate as cr
 
-MAT = cr.Material(E=1e6, nu=0.33, density=1000.0)
-
-
-def jittered_box(size, cells, jitter=0.2, seed=0):
-    """A tet box whose interior nodes move by up to `jitter` cell sizes: an unstructured-like
-    mesh (no two elements alike) with the box's boundary."""
-    mesh = cr.box(size, cells=cells, element="tet4")
-    p = mesh.points.copy()
-    inner = np.all((p > 1e-9) & (p < np.asarray(size) - 1e-9), axis=1)
-    h = size[0] / cells[0]
-    p[inner] += np.random.default_rng(seed).uniform(-jitter, jitter, (inner.sum(), 3)) * h
-    return cr.Mesh(p, mesh.cells, "tetra")
+MAT = SOFT
 
 
 def test_a_freely_spinning_body_does_not_run_away():
