@@ -1,0 +1,99 @@
+"""The one file reader behind every path that takes a mesh or surface file
+(:func:`corotate.read_mesh`, :func:`corotate.read_surface`,
+:meth:`corotate.EmbeddedSurface.from_file`, :func:`corotate.tetrahedralize`), so that a
+file gets the same answer whichever function reads it.
+
+* TetGen .node/.ele pairs are read by :func:`corotate.mesh_io.read_tetgen` (strict,
+  never meshio's reader, which loops forever on an empty file);
+* headers that make a meshio reader loop forever are refused first: meshio's PLY reader
+  skips to the next non-empty line until it finds ``end_header``, and its OFF reader
+  until it finds the counts line, both without stopping at the end of the file (a
+  two-line PLY header ``ply`` / ``format ascii 1.0`` hangs the process);
+* a binary STL whose size does not match its triangle count is refused (meshio would
+  trust a corrupt count, see :func:`_check_stl_size`);
+* everything else goes to :func:`corotate.mesh_io.read_meshio_file` (meshio with every
+  failure turned into a ValueError naming the file, cell counts checked).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from .mesh import _meshio
+from .mesh_io import read_meshio_file, read_tetgen
+
+__all__ = ["TETGEN_SUFFIXES", "read_mesh_file"]
+
+TETGEN_SUFFIXES = (".node", ".ele")
+
+
+def read_mesh_file(path: Path) -> Any:
+    """The file at path as a meshio.Mesh (TetGen pairs as one "tetra" block).
+
+    Raises FileNotFoundError for a missing file, ValueError naming the file for one that
+    cannot be read."""
+    suffix = path.suffix.lower()
+    if suffix in TETGEN_SUFFIXES:
+        points, cells, cell_type = read_tetgen(path)
+        return _meshio().Mesh(points, [(cell_type, cells)])
+    if not path.is_file():
+        raise FileNotFoundError(f"mesh file not found: {path}")
+    if suffix == ".ply":
+        _check_ply_header(path)
+    elif suffix == ".off":
+        _check_off_header(path)
+    elif suffix == ".stl":
+        _check_stl_size(path)
+    return read_meshio_file(path)
+
+
+def _significant_lines(path: Path, limit: int = 1 << 20) -> list[str]:
+    """The stripped non-empty lines of the file's first `limit` bytes (a header is text
+    even in a binary file; what follows it may decode as garbage, which is harmless)."""
+    with path.open("rb") as f:
+        head = f.read(limit)
+    return [s for s in (line.strip() for line in head.decode("latin-1").splitlines()) if s]
+
+
+def _check_ply_header(path: Path) -> None:
+    lines = _significant_lines(path)
+    if not lines or lines[0] != "ply":
+        raise ValueError(f"could not read mesh file {path}: a PLY file starts with the line 'ply'")
+    header_end = next((i for i, s in enumerate(lines) if s == "end_header"), None)
+    if header_end is None:
+        raise ValueError(f"could not read mesh file {path}: the PLY header has no 'end_header' line (truncated?)")
+
+
+def _check_off_header(path: Path) -> None:
+    lines = [s for s in _significant_lines(path) if not s.startswith("#")]
+    if not lines or lines[0] != "OFF":
+        raise ValueError(f"could not read mesh file {path}: an OFF file starts with the line 'OFF'")
+    if len(lines) < 2 or len(lines[1].split()) != 3:
+        raise ValueError(f"could not read mesh file {path}: the OFF header has no 'vertices faces edges' counts line")
+
+
+def _check_stl_size(path: Path) -> None:
+    """A binary STL holds exactly 84 + 50 n bytes for the n triangles its header declares;
+    anything else must be ASCII ("solid ..."). meshio compares the size in 32-bit
+    arithmetic, so a flipped top bit of n (n + 2^31: 50 (n + 2^31) wraps to 50 n) passes
+    its test and it allocates 100 GiB for the triangles."""
+    size = path.stat().st_size
+    with path.open("rb") as f:
+        head = f.read(84)
+    if size >= 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == size:
+        return
+    if head.lstrip()[:5].lower() == b"solid" and all(32 <= c < 127 or c in b"\t\r\n" for c in head):
+        with path.open("rb") as f:
+            f.seek(max(0, size - 1024))
+            tail = [line.strip() for line in f.read().splitlines() if line.strip()]
+        if not tail or not tail[-1].lower().startswith(b"endsolid"):  # meshio would drop the cut facets
+            raise ValueError(
+                f"could not read mesh file {path}: the ASCII STL does not end with 'endsolid' (truncated?)"
+            )
+        return
+    declared = int.from_bytes(head[80:84], "little") if size >= 84 else 0
+    raise ValueError(
+        f"could not read mesh file {path}: not an ASCII STL (which starts with 'solid') and not a binary STL "
+        f"(its header declares {declared} triangles, {84 + 50 * declared} bytes, but the file has {size})"
+    )

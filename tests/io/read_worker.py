@@ -1,0 +1,44 @@
+"""A child process for the file fuzz test: reads the files named on stdin, one request a
+line ("<kind> <path>", kind: volume = read_mesh, surface = read_surface, embedded =
+EmbeddedSurface.from_file, tetrahedralize), and answers each on stdout with one JSON line:
+{"status": "ok", "cell_type", "n_cells", "n_nodes"} or {"status": "error", "type", "message"}.
+
+Anything other than ValueError / FileNotFoundError is reported as status "escaped". A crash
+or a hang shows up in the parent as a dead process or a missing answer.
+"""
+
+import json
+import sys
+import warnings
+
+import corotate as cr
+
+
+def answer(kind: str, path: str) -> dict:
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if kind == "volume":
+                mesh = cr.read_mesh(path)
+            elif kind == "surface":
+                mesh = cr.read_surface(path)
+            elif kind == "embedded":
+                mesh = cr.EmbeddedSurface.from_file(cr.box(), path).mesh
+            else:
+                mesh = cr.tetrahedralize(path, target_cells=50)
+        return {"status": "ok", "cell_type": mesh.cell_type, "n_cells": mesh.n_cells, "n_nodes": mesh.n_nodes}
+    except (ValueError, FileNotFoundError) as e:
+        return {"status": "error", "type": type(e).__name__, "message": str(e)}
+    except BaseException as e:  # SystemExit and MemoryError included on purpose
+        return {"status": "escaped", "type": type(e).__name__, "message": str(e)}
+
+
+def main() -> None:
+    print(json.dumps({"status": "ready"}), flush=True)
+    for line in sys.stdin:
+        kind, path = line.rstrip("\n").split(" ", 1)
+        print(json.dumps(answer(kind, path)), flush=True)
+
+
+if __name__ == "__main__":
+    main()
