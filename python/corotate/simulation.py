@@ -161,10 +161,6 @@ class Simulation(DrivenBody):
             raise TypeError(f"progress must be a callable progress(done, n), got {type(progress).__name__}")
         return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations), prescribed, progress)
 
-    def kinetic_energy(self) -> float:
-        """1/2 v^T M v with the simulation's mass matrix kind."""
-        return self._sim.kinetic_energy()
-
     @property
     def stats(self) -> dict:
         """Statistics: last step's CG iterations, residual, tolerance, phase times [ms], Newton iterations
