@@ -1,6 +1,8 @@
 """The file reads of the I/O tests, each in a child process with a time limit: a reader that
 crashes or hangs on a file fails the test instead of taking pytest down with it."""
 
+from __future__ import annotations
+
 import json
 import os
 import select

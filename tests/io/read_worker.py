@@ -7,6 +7,8 @@ Anything other than ValueError / FileNotFoundError is reported as status "escape
 or a hang shows up in the parent as a dead process or a missing answer.
 """
 
+from __future__ import annotations
+
 import json
 import sys
 import warnings
