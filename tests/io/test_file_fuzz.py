@@ -31,6 +31,7 @@ import meshio
 import numpy as np
 import pytest
 from child_reader import Reader
+from mutations import byte_flip, delete_line, pick_file, repeat_line, truncate
 
 import corotate as cr
 
@@ -82,41 +83,8 @@ SURFACE_FORMATS = ["obj", "stl-binary", "stl-ascii", "ply-ascii", "ply-binary", 
 # -- random mutations: (files, rng) -> files -------------------------------------------------
 
 
-def pick(files: dict[str, bytes], rng: random.Random) -> str:
-    return rng.choice(sorted(files))
-
-
-def byte_flip(files, rng):
-    k = pick(files, rng)
-    b = bytearray(files[k])
-    for _ in range(rng.choice([1, 1, 3])):
-        i = rng.randrange(len(b))
-        b[i] = rng.randrange(256) if rng.random() < 0.5 else b[i] ^ (1 << rng.randrange(8))
-    return {**files, k: bytes(b)}
-
-
-def truncate(files, rng):
-    k = pick(files, rng)
-    return {**files, k: files[k][: rng.randrange(len(files[k]))]}
-
-
-def delete_line(files, rng):
-    k = pick(files, rng)
-    lines = files[k].split(b"\n")
-    del lines[rng.randrange(len(lines))]
-    return {**files, k: b"\n".join(lines)}
-
-
-def repeat_line(files, rng):
-    k = pick(files, rng)
-    lines = files[k].split(b"\n")
-    i = rng.randrange(len(lines))
-    lines.insert(i, lines[i])
-    return {**files, k: b"\n".join(lines)}
-
-
 def swap_lines(files, rng):
-    k = pick(files, rng)
+    k = pick_file(files, rng)
     lines = files[k].split(b"\n")
     i, j = rng.randrange(len(lines)), rng.randrange(len(lines))
     lines[i], lines[j] = lines[j], lines[i]
@@ -127,7 +95,7 @@ NUMBER = re.compile(rb"(?<![\w.+-])-?\d+(\.\d*)?([eE][-+]?\d+)?(?![\w.])")
 
 
 def replace_number(files, rng):
-    k = pick(files, rng)
+    k = pick_file(files, rng)
     hits = list(NUMBER.finditer(files[k]))
     if not hits:
         return byte_flip(files, rng)
@@ -137,7 +105,7 @@ def replace_number(files, rng):
 
 
 def header_only(files, rng):
-    k = pick(files, rng)
+    k = pick_file(files, rng)
     lines = files[k].split(b"\n")
     return {**files, k: b"\n".join(lines[: rng.randrange(1, 4)]) + b"\n"}
 
@@ -161,7 +129,7 @@ def broken_volume(tmp: Path, fmt: str, rng: random.Random) -> tuple[str, dict[st
         cells = cells[: len(cells) // 3]  # what a cut file keeps: all nodes, a third of the cells
     files = write_format(tmp, fmt, points, cells)
     if kind == "empty":
-        k = pick(files, rng)
+        k = pick_file(files, rng)
         files = {**files, k: b""}
     return kind, files
 
