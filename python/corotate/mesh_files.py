@@ -11,21 +11,34 @@ file gets the same answer whichever function reads it.
   two-line PLY header ``ply`` / ``format ascii 1.0`` hangs the process);
 * a binary STL whose size does not match its triangle count is refused (meshio would
   trust a corrupt count, see :func:`_check_stl_size`);
-* everything else goes to :func:`corotate.mesh_io.read_meshio_file` (meshio with every
-  failure turned into a ValueError naming the file, cell counts checked).
+* the formats the fuzz tests cover go to :func:`corotate.mesh_io.read_meshio_file` (meshio
+  with every failure turned into a ValueError naming the file, cell counts checked);
+* every other format is read the same way in a child process with a time limit: some
+  meshio readers loop forever on a corrupt file (Nastran, Tecplot, MDPA files cut short).
 """
 
 from __future__ import annotations
 
+import os
+import tempfile
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from ._child_process import ChildFailed, run_script
 from .mesh import _meshio
 from .mesh_io import read_meshio_file, read_tetgen
 
-__all__ = ["TETGEN_SUFFIXES", "read_mesh_file"]
+__all__ = ["FUZZED_SUFFIXES", "READ_TIME_LIMIT", "TETGEN_SUFFIXES", "read_mesh_file"]
 
 TETGEN_SUFFIXES = (".node", ".ele")
+#: Formats whose meshio readers (with the guards here) the fuzz tests cover (tests/io/); any
+#: other format is read in a child process stopped after READ_TIME_LIMIT seconds (the
+#: environment variable COROTATE_READ_TIME_LIMIT sets it; default 300).
+FUZZED_SUFFIXES = (".vtu", ".vtk", ".msh", ".inp", ".obj", ".stl", ".ply", ".off")
+READ_TIME_LIMIT = float(os.environ.get("COROTATE_READ_TIME_LIMIT", "300"))
+_READ_CHILD = Path(__file__).with_name("_read_child.py")
 
 
 def read_mesh_file(path: Path) -> Any:
@@ -45,7 +58,29 @@ def read_mesh_file(path: Path) -> Any:
         _check_off_header(path)
     elif suffix == ".stl":
         _check_stl_size(path)
+    if suffix not in FUZZED_SUFFIXES:
+        return _read_in_child(path)
     return read_meshio_file(path)
+
+
+def _read_in_child(path: Path) -> Any:
+    """read_meshio_file(path) run in a child process (_read_child.py) stopped after
+    READ_TIME_LIMIT seconds; every failure a ValueError naming the file."""
+    with tempfile.TemporaryDirectory(prefix="corotate-read-") as scratch:
+        answer = Path(scratch, "answer.npz")
+        try:
+            run_script(_READ_CHILD, [str(path), str(answer)], READ_TIME_LIMIT)
+        except ChildFailed as e:
+            raise ValueError(
+                f"could not read mesh file {path}: meshio's reader for {path.suffix!r} failed ({e}); a corrupt file "
+                "can make some readers loop forever"
+            ) from None
+        error = answer.with_suffix(".npz.txt")
+        if error.exists():
+            raise ValueError(error.read_text())
+        with np.load(answer, allow_pickle=False) as data:
+            blocks = [(str(t), data[f"cells_{i}"]) for i, t in enumerate(data["types"].tolist())]
+            return _meshio().Mesh(data["points"], blocks)
 
 
 def _significant_lines(path: Path, limit: int = 1 << 20) -> list[str]:

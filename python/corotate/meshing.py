@@ -12,15 +12,13 @@ extra of an MIT package should impose on its users, and both need a clean, water
 from __future__ import annotations
 
 import os
-import signal
-import subprocess
-import sys
 import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ._child_process import ChildFailed, run_script
 from .mesh import Mesh
 from .surface_checks import check_closed_surface, enclosed_volume
 
@@ -138,34 +136,9 @@ def _run_in_child(request: dict[str, Any], time_limit: float) -> tuple[np.ndarra
         request_path, answer_path = Path(scratch, "request.npz"), Path(scratch, "answer.npz")
         np.savez(request_path, **request)
         try:
-            done = subprocess.run(
-                [sys.executable, str(_CHILD_SCRIPT), str(request_path), str(answer_path)],
-                cwd=scratch,
-                capture_output=True,
-                timeout=time_limit,
-                check=False,
-            )
-        except subprocess.TimeoutExpired:
-            raise RuntimeError(
-                f"fTetWild did not finish within time_limit={time_limit:g} s and was stopped; a coarser target "
-                "(fewer target_cells) or a cleaner surface may help"
-            ) from None
-        if done.returncode != 0:
-            raise RuntimeError(f"fTetWild failed: {_exit_reason(done.returncode)}{_last_lines(done.stderr)}")
+            run_script(_CHILD_SCRIPT, [str(request_path), str(answer_path)], time_limit, cwd=scratch)
+        except ChildFailed as e:
+            hint = "; a coarser target (fewer target_cells) or a cleaner surface may help" if "within" in str(e) else ""
+            raise RuntimeError(f"fTetWild failed (time_limit={time_limit:g} s): {e}{hint}") from None
         with np.load(answer_path, allow_pickle=False) as answer:
             return np.asarray(answer["points"], dtype=np.float64), np.asarray(answer["tets"], dtype=np.int64)
-
-
-def _exit_reason(code: int) -> str:
-    if code < 0:
-        try:
-            name = signal.Signals(-code).name
-        except ValueError:
-            name = f"signal {-code}"
-        return f"the mesher process was killed by {name} (a crash inside fTetWild)"
-    return f"the mesher process exited with status {code}"
-
-
-def _last_lines(stderr: bytes, n: int = 5) -> str:
-    lines = stderr.decode("utf-8", errors="replace").strip().splitlines()[-n:]
-    return (":\n" + "\n".join(lines)) if lines else ""
