@@ -36,6 +36,10 @@ NormalsMode = Literal["area", "rotated", "none"]
 _NORMALS = ("area", "rotated", "none")
 
 
+# Surface formats whose every cell is a face (of 3 or more vertices).
+_FACE_FORMATS = (".obj", ".off", ".ply", ".stl")
+
+
 def read_surface(path: str | os.PathLike[str], remove_unused_vertices: bool = False) -> Mesh:
     """Read a triangle surface from a file (.obj, .stl, .ply, .off, .vtu, ...; the reader
     :func:`corotate.read_mesh` uses, so a file gets the same verdict on every path).
@@ -67,11 +71,14 @@ def read_surface(path: str | os.PathLike[str], remove_unused_vertices: bool = Fa
         if data.size and (data.min() < 0 or data.max() >= n_points):
             raise ValueError(f"{path}: a {block.type} cell refers to a vertex out of range [0, {n_points})")
         in_any_cell[data.ravel()] = True
+        if path.suffix.lower() in _FACE_FORMATS and block.type not in ("triangle", "quad", "polygon"):
+            # These formats hold faces only: meshio makes a "line" of a face of 2 vertices.
+            raise ValueError(f"{path}: a face with {data.shape[1]} vertices (is the file truncated or corrupt?)")
         if block.type == "triangle":
             blocks.append(data)
         elif block.type in ("quad", "polygon"):
             if data.shape[1] < 3:
-                raise ValueError(f"{path}: a face with {data.shape[1]} vertices (is the file truncated?)")
+                raise ValueError(f"{path}: a face with {data.shape[1]} vertices (is the file truncated or corrupt?)")
             blocks += [data[:, [0, k, k + 1]] for k in range(1, data.shape[1] - 1)]  # a fan
     if not blocks:
         found = sorted({b.type for b in m.cells})

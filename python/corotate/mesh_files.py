@@ -98,6 +98,42 @@ def _check_ply_header(path: Path) -> None:
     header_end = next((i for i, s in enumerate(lines) if s == "end_header"), None)
     if header_end is None:
         raise ValueError(f"could not read mesh file {path}: the PLY header has no 'end_header' line (truncated?)")
+    if len(lines) > 1 and lines[1].startswith("format binary"):
+        _check_ply_binary_size(path, lines[:header_end])
+
+
+# Bytes of the PLY scalar types.
+_PLY_SIZES = {
+    **dict.fromkeys(("char", "uchar", "int8", "uint8"), 1),
+    **dict.fromkeys(("short", "ushort", "int16", "uint16"), 2),
+    **dict.fromkeys(("int", "uint", "int32", "uint32", "float", "float32"), 4),
+    **dict.fromkeys(("double", "float64"), 8),
+}
+
+
+def _check_ply_binary_size(path: Path, header: list[str]) -> None:
+    """The elements a binary PLY header declares must fit in the bytes after it (each row
+    at least its scalar properties and its lists' counts): meshio walks a declared face
+    count of 10^8 byte by byte in Python, for minutes, past the end of the data."""
+    needed, declared = 0, []
+    for line in header:
+        words = line.split()
+        if words[0] == "element" and len(words) == 3 and words[2].isdigit():
+            declared.append((words[1], int(words[2])))
+        elif words[0] == "property" and declared and len(words) >= 3:
+            size = _PLY_SIZES.get(words[2] if words[1] == "list" else words[1])
+            if size is None:
+                return  # an unknown type: meshio names it
+            needed += declared[-1][1] * size
+    raw = path.read_bytes()
+    end = raw.find(b"end_header")
+    available = len(raw) - (raw.find(b"\n", end) + 1)
+    if needed > available:
+        counts = ", ".join(f"{n} {name}" for name, n in declared)
+        raise ValueError(
+            f"could not read mesh file {path}: the PLY header declares {counts}, at least {needed} bytes, but "
+            f"{available} bytes follow it (a corrupt count or a truncated file)"
+        )
 
 
 def _check_off_header(path: Path) -> None:

@@ -49,6 +49,16 @@ def test_an_empty_tetgen_file_is_refused_on_every_path(tmp_path, reader, empty):
     assert got == {kind: {"status": "error", "type": "ValueError", "message": message} for kind in PATHS}
 
 
+def test_a_binary_ply_declaring_10_to_the_8_faces_is_refused_at_once(tmp_path, reader):
+    sphere = cr.sphere_surface(1.0, 20)
+    f = tmp_path / "count.ply"
+    meshio.write(f, meshio.Mesh(sphere.points, [("triangle", sphere.cells.astype(np.int32))]), binary=True)
+    f.write_bytes(f.read_bytes().replace(b"element face 36", b"element face 99999999"))  # meshio: minutes
+    got = reader.read("surface", f)
+    assert got["status"] == "error"
+    assert "declares 20 vertex, 99999999 face, at least 100000479 bytes, but 948 bytes follow it" in got["message"]
+
+
 def test_an_off_header_alone_is_refused(tmp_path, reader):
     f = tmp_path / "lone.off"
     f.write_text("OFF\n")  # meshio's reader loops forever looking for the counts line
@@ -137,7 +147,7 @@ def test_an_obj_face_cut_mid_record_is_refused(tmp_path):
     meshio.write(f, meshio.Mesh(sphere.points, [("triangle", sphere.cells)]))
     text = f.read_text().rstrip("\n")
     f.write_text(text[: text.rindex(" ")] + "\n")  # the last face loses its third vertex
-    with pytest.raises(ValueError, match=r"mid\.obj: a face with 2 vertices \(is the file truncated\?\)"):
+    with pytest.raises(ValueError, match=r"mid\.obj: a face with 2 vertices \(is the file truncated or corrupt\?\)"):
         cr.read_surface(f)
 
 
