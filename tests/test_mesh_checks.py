@@ -104,10 +104,10 @@ def test_unused_nodes_are_dropped_only_when_asked(tmp_path):
 def test_repair_helpers_on_arrays():
     cells, dropped = drop_duplicate_cells(np.array([[0, 1, 2, 3], [3, 2, 1, 0], [1, 2, 3, 4]]))
     assert dropped == 1 and cells.tolist() == [[0, 1, 2, 3], [1, 2, 3, 4]]
-    points = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 0], [0, 1, 0], [0, 0, 1], [7, 7, 7]], dtype=float)
     merged_points, merged_cells, merged = merge_coincident_nodes(points, np.array([[2, 1, 3, 4]]))
-    assert merged == 1
-    assert merged_points.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    assert merged == 1  # node 2 became node 0; the unused node 5 stays (read_mesh still reports it)
+    assert merged_points.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [7, 7, 7]]
     assert merged_cells.tolist() == [[0, 1, 2, 3]]
 
 

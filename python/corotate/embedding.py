@@ -45,9 +45,10 @@ def read_surface(path: str | os.PathLike[str], remove_unused_vertices: bool = Fa
     :func:`corotate.read_mesh` uses, so a file gets the same verdict on every path).
 
     Triangles are kept, quads and polygons are split into triangles (a fan from their first
-    vertex), other cells (lines, points, volume cells) are ignored and so are the vertices only they use. Vertices that
-    no cell at all uses are an error by default: they are what a truncated file leaves (an
-    OBJ cut after its vertices and a few faces); remove_unused_vertices=True drops them.
+    vertex), other cells (lines, points, volume cells) are ignored, and so are the vertices
+    only they use. Vertices that no cell at all uses are an error by default: they are what a
+    truncated file leaves (an OBJ cut after its vertices and a few faces);
+    remove_unused_vertices=True drops them.
 
     path     the file
     returns  Mesh of cell type "triangle" on the vertices the triangles use (in file order)

@@ -467,7 +467,8 @@ def _drop_unused_nodes(mesh: Mesh, path: str | os.PathLike[str], remove: bool) -
     if not remove:
         raise ValueError(
             f"{path}: {n_unused} of {mesh.n_nodes} node(s) are used by no cell (node {int(np.argmin(used))} is "
-            "the first): is the file truncated? read_mesh(..., remove_unused_nodes=True) drops them"
+            "the first): is the file truncated? (a cut file keeps its nodes but loses cells); "
+            "read_mesh(..., remove_unused_nodes=True) drops them"
         )
     new_index = np.cumsum(used) - 1
     warnings.warn(

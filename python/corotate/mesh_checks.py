@@ -93,8 +93,8 @@ def merge_coincident_nodes(
     points: np.ndarray, cells: np.ndarray, tolerance: float = COINCIDENT_TOLERANCE
 ) -> tuple[np.ndarray, np.ndarray, int]:
     """(points, cells, merged): each group of coincident nodes (see coincident_node_pairs)
-    becomes its lowest-numbered node, nodes no cell uses any more are dropped, the rest
-    keep their order; merged counts the nodes removed."""
+    becomes its lowest-numbered node and the others are dropped (merged counts them); the
+    remaining nodes keep their order."""
     pairs = coincident_node_pairs(points, tolerance)
     if len(pairs) == 0:
         return points, cells, 0
@@ -103,11 +103,10 @@ def merge_coincident_nodes(
     _, group = connected_components(graph, directed=False)
     lowest = np.full(group.max() + 1, n, dtype=np.int64)
     np.minimum.at(lowest, group, np.arange(n))
-    merged_cells = lowest[group][cells]
-    used = np.zeros(n, dtype=bool)
-    used[merged_cells] = True
-    renumber = np.cumsum(used) - 1
-    return points[used], renumber[merged_cells], int(n - used.sum())
+    target = lowest[group]  # the node each node becomes
+    kept = target == np.arange(n)
+    renumber = np.cumsum(kept) - 1
+    return points[kept], renumber[target][cells], int(n - kept.sum())
 
 
 def check_volume_mesh(mesh: Mesh, repair: bool = False) -> tuple[np.ndarray, np.ndarray]:
@@ -121,7 +120,7 @@ def check_volume_mesh(mesh: Mesh, repair: bool = False) -> tuple[np.ndarray, np.
         cells, dropped = drop_duplicate_cells(cells)
         for count, what in ((merged, "coincident node(s) merged"), (dropped, "duplicate cell(s) dropped")):
             if count:
-                warnings.warn(f"mesh repaired: {count} {what}", stacklevel=4)
+                warnings.warn(f"mesh repaired: {count} {what}", stacklevel=3)
     copies = duplicate_cells(cells)
     if len(copies):
         i, j = copies[0].tolist()
@@ -140,7 +139,7 @@ def check_volume_mesh(mesh: Mesh, repair: bool = False) -> tuple[np.ndarray, np.
     repeated = np.flatnonzero((ordered[:, 1:] == ordered[:, :-1]).any(axis=1))
     if len(repeated):
         raise ValueError(f"cell {int(repeated[0])} names a node twice ({len(repeated)} such cell(s)): it has no volume")
-    if len(cells) and mesh.cell_type != "triangle":
+    if len(cells):
         _check_no_overlap(mesh, points, cells)
     return points, cells
 
