@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .mesh_checks import merge_coincident_nodes
+
 __all__ = ["OUTLIER_FACTOR", "check_closed_surface", "enclosed_volume", "outlier_vertices"]
 
 #: A vertex farther from the surface's median point than this many times the median
@@ -42,8 +44,9 @@ def enclosed_volume(points: np.ndarray, triangles: np.ndarray) -> float:
 def check_closed_surface(points: np.ndarray, triangles: np.ndarray, label: str = "the surface") -> None:
     """Raise ValueError unless the triangles (nt, 3) on points (nv, 3) form a closed,
     edge-manifold surface of sane extent, enclosing a volume: no outlier vertex (see
-    OUTLIER_FACTOR), no triangle with a repeated vertex, every edge shared by exactly two
-    triangles, finite non-zero enclosed volume. label starts the messages."""
+    OUTLIER_FACTOR); with coincident vertices welded and triangles without area left out,
+    every edge shared by exactly two triangles; a finite non-zero enclosed volume. label
+    starts the messages; vertex numbers in them are those after welding."""
     if len(triangles) == 0:
         raise ValueError(f"{label} has no triangles")
     far = outlier_vertices(points)
@@ -55,13 +58,14 @@ def check_closed_surface(points: np.ndarray, triangles: np.ndarray, label: str =
             f"point than the median vertex (vertex {int(far[0])} at {points[far[0]].tolist()}): a corrupt "
             "coordinate? A mesher would fill a bounding box sized by it"
         )
-    repeated = np.flatnonzero(
-        (triangles[:, 0] == triangles[:, 1])
-        | (triangles[:, 1] == triangles[:, 2])
-        | (triangles[:, 0] == triangles[:, 2])
-    )
-    if len(repeated):
-        raise ValueError(f"{label}: triangle {int(repeated[0])} repeats a vertex ({len(repeated)} such triangle(s))")
+    # Exporters split vertices at texture seams or sharp edges (a PLY or an OBJ with a vertex
+    # per face corner): the surface is judged with coincident vertices welded, and without
+    # the triangles that welding (or the file) leaves without area at a repeated vertex.
+    points, triangles, _ = merge_coincident_nodes(points, triangles)
+    ordered = np.sort(triangles, axis=1)
+    triangles = triangles[(ordered[:, 0] != ordered[:, 1]) & (ordered[:, 1] != ordered[:, 2])]
+    if len(triangles) == 0:
+        raise ValueError(f"{label} has no triangle with three distinct vertices")
     edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
     unique, counts = np.unique(edges, axis=0, return_counts=True)
     open_edges, shared = unique[counts == 1], unique[counts > 2]

@@ -14,7 +14,7 @@ from child_reader import Reader
 
 import corotate as cr
 from corotate import meshing
-from corotate.surface_checks import enclosed_volume
+from corotate.surface_checks import check_closed_surface, enclosed_volume
 
 PATHS = ["volume", "surface", "embedded", "tetrahedralize"]
 
@@ -231,3 +231,13 @@ def test_a_corrupt_file_of_another_format_names_the_file(tmp_path):
     f.write_text("MeshVersionFormatted 1\nDimension\n")
     with pytest.raises(ValueError, match=r"broken\.mesh"):
         cr.read_mesh(f)
+
+
+def test_a_closed_surface_with_split_vertices_is_closed():
+    """Exporters give each face its own corners (a PLY per face corner): welded, it is closed."""
+    cube = cr.boundary_surface(cr.box())
+    split_points = cube.points[cube.cells].reshape(-1, 3)
+    split_cells = np.arange(len(split_points)).reshape(-1, 3)
+    check_closed_surface(split_points, split_cells)  # no error
+    with pytest.raises(ValueError, match="not closed"):
+        check_closed_surface(split_points, split_cells[2:])
