@@ -216,3 +216,16 @@ def test_a_raising_progress_callback_leaves_the_state_of_an_untouched_twin(solve
 def test_a_raising_progress_callback_restores_the_rotating_preconditioners_too(preconditioner):
     a, b = failed_call_and_twin(cr.PCG(preconditioner=preconditioner, warm_start=False))
     assert np.array_equal(a.positions, b.positions)
+
+
+@pytest.mark.parametrize("bad", [True, "0.01"])
+def test_time_steps_must_be_real_numbers(bad):
+    body = cr.Body(cr.box(), cr.Material())
+    with pytest.raises(TypeError, match=r"dt must be a real number, got"):
+        cr.Simulation(body, dt=bad)
+    with pytest.raises(TypeError, match=r"time step dt must be a real number, got"):
+        cr.ExplicitSimulation(body, dt=bad)
+    sim = cr.Simulation(body, dt=0.01)
+    with pytest.raises(TypeError, match=r"dt must be a real number"):
+        sim.dt = bad
+    assert sim.dt == 0.01

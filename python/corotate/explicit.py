@@ -11,6 +11,7 @@ import numpy as np
 
 import corotate._core as _core
 
+from ._numbers import real_number
 from .body import Body
 from .choices import (
     EXPLICIT_INTEGRATORS,
@@ -86,8 +87,8 @@ class ExplicitSimulation(DrivenBody):
             integrator=integrator,
             policy=policy,
             on_unstable=on_unstable,
-            safety=float(safety),
-            mass_damping=float(mass_damping),
+            safety=real_number(safety, "safety"),
+            mass_damping=real_number(mass_damping, "mass_damping"),
         )
         check_choice(integrator, EXPLICIT_INTEGRATORS, "integrator")
         if isinstance(body, MassSpringBody):
@@ -104,7 +105,7 @@ class ExplicitSimulation(DrivenBody):
     def _check_dt(dt: float | None) -> float:
         if dt is None:
             return 0.0
-        dt = float(dt)
+        dt = real_number(dt, "time step dt")
         if not (dt > 0) or not math.isfinite(dt):
             raise ValueError(f"time step dt must be positive and finite (or None for the stable step), got {dt}")
         return dt
