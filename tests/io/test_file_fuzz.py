@@ -3,20 +3,24 @@
 A small tet mesh (cr.box) is written as ASCII VTU, legacy VTK, Gmsh 2.2, Abaqus .inp and a
 TetGen .node/.ele pair and read back with read_mesh; a closed triangle sphere is written as
 OBJ, binary and ASCII STL, ASCII and binary PLY and OFF and read back with read_surface.
-Each file is mutated (byte flips, truncation, deleted or repeated lines, a number replaced by
-0, -1, 1e308, nan, a huge integer or a word, the header alone) or broken on purpose (a
-duplicate cell, permuted; a tet soup; cut in the middle; a two-line PLY header; an empty
-.node or .ele). The contract, for every file:
+Each file is mutated (byte flips, truncation, deleted, repeated or swapped lines, a number
+replaced by 0, -1, 1e308, nan, a huge integer or a word, the first lines of the header
+alone) or broken on purpose (a duplicate cell or triangle, also permuted; a tet soup; all
+nodes but a third of the cells or faces; a binary STL one triangle short, an ASCII STL
+without its endsolid; an empty file). 32 files per format, 352 in all. The contract, for
+every file:
 
-* no crash and no hang: the child process answers within TIME_LIMIT (a dead or silent
-  child is a failure; it is restarted for the next file);
+* no crash and no hang: the child process answers within child_reader.TIME_LIMIT (a dead
+  or silent child is a failure; it is restarted for the next file);
 * nothing escapes but ValueError / FileNotFoundError, whose message names the file;
-* no silent misread: an accepted file gives the cell type, cell count and node count that
-  were written, except where the format declares no counts and the mutation changed the
-  number of records (a deleted line in an OBJ is a different, valid surface); a file broken
-  on purpose is never accepted.
+* no silent misread: an accepted file gives the cell type, cell count (with the cells
+  dropped under a warning that counts them) and node count that were written, except
+  where the format declares no counts and the mutation changed the number of records (a
+  deleted line in an OBJ is a different, valid surface); a file broken on purpose is never
+  accepted.
 
-Seeded: the same files every run (COROTATE_FUZZ_SEED picks others).
+Seeded: the same files every run (COROTATE_FUZZ_SEED picks others, COROTATE_FUZZ_FILE_CASES
+sets the files per format).
 """
 
 from __future__ import annotations
