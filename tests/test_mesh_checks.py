@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import corotate as cr
-from corotate.mesh_checks import drop_duplicate_cells, merge_coincident_nodes
+from corotate.mesh_checks import drop_duplicate_cells, duplicate_cells, merge_coincident_nodes
 
 BOX = cr.box((1.0, 1.0, 1.0), (2, 2, 2))  # 48 tets, 1 m3
 
@@ -123,3 +123,14 @@ def test_valid_meshes_pass_including_distorted_hexes(element):
     moved = mesh.points + 0.05 * rng.standard_normal(mesh.points.shape)  # non-planar hex faces
     checked = cr.Mesh(moved, mesh.cells, mesh.cell_type)
     assert np.array_equal(checked.points, moved) and np.array_equal(checked.cells, mesh.cells)
+
+
+@pytest.mark.parametrize("largest_index", [10, 10**6])  # rows packed into one integer, or not
+def test_duplicate_cells_found_with_any_node_numbers(largest_index):
+    rng = np.random.default_rng(3)
+    cells = rng.choice(largest_index, size=(200, 4), replace=True)
+    cells[:, 3] = largest_index  # some rows share nodes, none repeats a node set by chance...
+    cells = np.unique(np.sort(cells, axis=1), axis=0)  # ...once made unique
+    doubled = np.concatenate([cells, cells[[4, 9]][:, ::-1]])
+    assert duplicate_cells(doubled).tolist() == [[4, len(cells)], [9, len(cells) + 1]]
+    assert len(duplicate_cells(cells)) == 0
