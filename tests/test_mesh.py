@@ -306,16 +306,16 @@ def test_negative_hex20_is_mirrored(tmp_path):
     assert np.array_equal(r.cells, m.cells)
 
 
-def test_unused_nodes_are_removed_with_warning(tmp_path):
+def test_unused_nodes_are_an_error_or_removed_with_warning(tmp_path):
     pts = np.vstack([unit_tet().points[:2], [[5.0, 5.0, 5.0]], unit_tet().points[2:]])
     f = tmp_path / "unused.vtu"
     meshio.write(f, meshio.Mesh(pts, [("tetra", np.array([[0, 1, 3, 4]]))]))
+    with pytest.raises(ValueError, match=r"unused\.vtu: 1 of 5 node\(s\) are used by no cell \(node 2 is the first\)"):
+        read_mesh(f)
     with pytest.warns(UserWarning, match="removed 1 node"):
-        r = read_mesh(f)
+        r = read_mesh(f, remove_unused_nodes=True)
     assert np.array_equal(r.points, unit_tet().points)
     assert np.array_equal(r.cells, [[0, 1, 2, 3]])
-    kept = read_mesh(f, remove_unused_nodes=False)
-    assert kept.n_nodes == 5
 
 
 def test_read_missing_file_names_path(tmp_path):

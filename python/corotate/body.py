@@ -29,10 +29,19 @@ def _csr(triple: tuple[np.ndarray, np.ndarray, np.ndarray], n_dofs: int) -> sp.c
 _IMMUTABLE = "a Body is immutable after construction (simulations step copies of its model); create a new Body"
 
 
+def _read_only_copy(mesh: Mesh) -> Mesh:
+    """A copy of mesh (checked afresh: the caller may have changed it since it was built)
+    whose arrays cannot be written."""
+    copy = Mesh(mesh.points, mesh.cells, mesh.cell_type)
+    copy.points.flags.writeable = False
+    copy.cells.flags.writeable = False
+    return copy
+
+
 class Body(SettableOnly):
     """A mesh of one cell type with a material and a force model.
 
-    mesh      Mesh (tetra, hexahedron or hexahedron20 cells; triangle cells for sheets)
+    mesh      Mesh (any solid cell type of corotate.cell_types(); triangle cells for sheets)
     material  Material
     model     "corotational" (per-element rotation, eqs 3-4 of the paper; default),
               "linear" (small-displacement FEM, f = -K (x - X)), or a full nonlinear
@@ -52,7 +61,9 @@ class Body(SettableOnly):
     elements (zero-area triangles) raise ValueError naming the element.
 
     A Body is immutable: mesh, material, model, thickness and project_psd are read-only
-    (assigning raises AttributeError); for another material create a new Body.
+    (assigning raises AttributeError); for another material create a new Body. The body
+    keeps its own copy of the mesh, with read-only arrays: changing the Mesh passed in
+    afterwards (``mesh.points[:, 2] += 1``) changes neither the body nor its simulations.
     """
 
     _READ_ONLY_HINTS: ClassVar[dict[str, str]] = {
@@ -79,7 +90,7 @@ class Body(SettableOnly):
             raise ValueError(f"thickness applies to triangle sheets only, not to {mesh.cell_type!r} cells")
         if project_psd and model not in HYPERELASTIC_MODELS:
             raise ValueError(f"project_psd applies to the hyperelastic models {HYPERELASTIC_MODELS}, not {model!r}")
-        self._mesh = mesh
+        self._mesh = _read_only_copy(mesh)
         self._material = material
         self._model = model
         self._thickness = thickness
@@ -88,8 +99,8 @@ class Body(SettableOnly):
         self._force_model = _core.ForceModel(
             model,
             mesh.cell_type,
-            mesh.points,
-            mesh.cells,
+            self._mesh.points,
+            self._mesh.cells,
             material._core(),
             thickness=1.0 if thickness is None else thickness,
             project_psd=self._project_psd,
@@ -97,7 +108,7 @@ class Body(SettableOnly):
 
     @property
     def mesh(self) -> Mesh:
-        """The mesh (read-only)."""
+        """The body's own copy of the mesh (read-only, arrays included)."""
         return self._mesh
 
     @property

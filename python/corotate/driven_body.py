@@ -42,6 +42,25 @@ _FAILURES = (
 )
 
 
+class _FormerMethod(float):
+    """The value of a state query that became a property (cheap queries without arguments
+    are properties, like MassSpringBody.total_mass): a float that can still be called, as
+    code written for the method does, with a DeprecationWarning."""
+
+    _name: str
+
+    def __new__(cls, value: float, name: str) -> _FormerMethod:
+        obj = super().__new__(cls, value)
+        obj._name = name
+        return obj
+
+    def __call__(self) -> float:
+        warnings.warn(
+            f"{self._name} is a property now: write sim.{self._name} without the ()", DeprecationWarning, stacklevel=2
+        )
+        return float(self)
+
+
 _VIEW_HINT = "write into the view instead, e.g. sim.{name}[:] = values"
 
 
@@ -67,7 +86,7 @@ class DrivenBody(SettableOnly):
         "positions": _VIEW_HINT.format(name="positions"),
         "velocities": _VIEW_HINT.format(name="velocities"),
         "external_forces": _VIEW_HINT.format(name="external_forces"),
-        "fixed_nodes": "use fix(nodes) or free()",
+        "fixed_nodes": "use fix(nodes) (replaces the set), also_fix(nodes) (adds to it) or free()",
         "attachments": "use attach(), move_attachments() and detach()",
         "stats": "reset_stats() starts them afresh",
     }
@@ -170,11 +189,18 @@ class DrivenBody(SettableOnly):
         return [int(i) for i in nodes.ravel()]
 
     def fix(self, nodes: ArrayLike) -> None:
-        """Fix the given nodes (int indices or a boolean mask) in all three axes, replacing
-        the previous set. Fixed nodes feel no force and keep the velocity they have (zero
-        unless set); writing into ``positions``/``velocities`` between steps prescribes
-        their motion. Cheap at any time (the solver keeps its preconditioner)."""
+        """Fix exactly the given nodes (int indices or a boolean mask) in all three axes:
+        the set REPLACES the nodes fixed before (``also_fix`` adds to them). Fixed nodes feel
+        no force and keep the velocity they have (zero unless set); writing into
+        ``positions``/``velocities`` between steps prescribes their motion. Cheap at any
+        time (the solver keeps its preconditioner)."""
         self._sim.fixed_nodes = self._node_list(nodes)
+
+    def also_fix(self, nodes: ArrayLike) -> None:
+        """Fix the given nodes (int indices or a boolean mask) IN ADDITION to those fixed
+        already, e.g. a loaded point after clamping a face (``fix`` replaces the set)."""
+        added = self._node_list(nodes)
+        self._sim.fixed_nodes = sorted(set(self._sim.fixed_nodes).union(added))
 
     @staticmethod
     def _targets(nodes: list[int], targets: ArrayLike) -> np.ndarray:
@@ -255,9 +281,18 @@ class DrivenBody(SettableOnly):
         """(n, 3) internal elastic forces at the current positions."""
         return self._sim.internal_forces()
 
+    @property
     def energy(self) -> float:
-        """Elastic energy at the current positions."""
-        return self._sim.energy()
+        """Elastic energy [J] at the current positions. (Was a method: ``sim.energy()`` still
+        works, with a DeprecationWarning.)"""
+        return _FormerMethod(self._sim.energy(), "energy")
+
+    @property
+    def kinetic_energy(self) -> float:
+        """1/2 v^T M v [J] with the mass the integrator uses (Simulation: its mass kind;
+        ExplicitSimulation: lumped). (Was a method: ``sim.kinetic_energy()`` still works,
+        with a DeprecationWarning.)"""
+        return _FormerMethod(self._sim.kinetic_energy(), "kinetic_energy")
 
     def reset_stats(self) -> None:
         """Start the statistics afresh."""

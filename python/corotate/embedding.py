@@ -36,35 +36,74 @@ NormalsMode = Literal["area", "rotated", "none"]
 _NORMALS = ("area", "rotated", "none")
 
 
-def read_surface(path: str | os.PathLike[str]) -> Mesh:
-    """Read a triangle surface from any file meshio reads (.obj, .stl, .ply, .vtu, .off, ...).
+# Surface formats whose every cell is a face (of 3 or more vertices).
+_FACE_FORMATS = (".obj", ".off", ".ply", ".stl")
 
-    Triangle blocks are kept, quads are split into two triangles each, anything else
-    (lines, points, volume cells) is ignored. Returns a Mesh of cell type "triangle" with
-    only the vertices the triangles use. Raises FileNotFoundError / ValueError (naming the
-    file) for a missing or unreadable file or one without triangles or quads.
+
+def read_surface(path: str | os.PathLike[str], remove_unused_vertices: bool = False) -> Mesh:
+    """Read a triangle surface from a file (.obj, .stl, .ply, .off, .vtu, ...; the reader
+    :func:`corotate.read_mesh` uses, so a file gets the same verdict on every path).
+
+    Triangles are kept, quads and polygons are split into triangles (a fan from their first
+    vertex), other cells (lines, points, volume cells) are ignored, and so are the vertices
+    only they use. Vertices that no cell at all uses are an error by default: they are what a
+    truncated file leaves (an OBJ cut after its vertices and a few faces);
+    remove_unused_vertices=True drops them.
+
+    path     the file
+    returns  Mesh of cell type "triangle" on the vertices the triangles use (in file order)
+
+    Raises FileNotFoundError / ValueError (naming the file) for a missing, unreadable or
+    truncated file, one without triangles or quads, or one with a triangle twice (in any
+    vertex order).
     """
-    from .mesh_io import read_meshio_file
+    from .mesh_checks import duplicate_cells
+    from .mesh_files import read_mesh_file
 
     path = Path(os.fspath(path))
-    m = read_meshio_file(path)
+    m = read_mesh_file(path)
     blocks = []
+    n_points = len(m.points)
+    in_any_cell = np.zeros(n_points, dtype=bool)
     for block in m.cells:
-        data = np.asarray(block.data, dtype=np.int64)
+        data = np.asarray(block.data)
+        if data.dtype.kind not in "iu" or data.ndim != 2:
+            raise ValueError(f"{path}: {block.type} cells are not an (m, k) array of node indices")
+        if data.size and (data.min() < 0 or data.max() >= n_points):
+            raise ValueError(f"{path}: a {block.type} cell refers to a vertex out of range [0, {n_points})")
+        in_any_cell[data.ravel()] = True
+        if path.suffix.lower() in _FACE_FORMATS and block.type not in ("triangle", "quad", "polygon"):
+            # These formats hold faces only: meshio makes a "line" of a face of 2 vertices.
+            raise ValueError(f"{path}: a face with {data.shape[1]} vertices (is the file truncated or corrupt?)")
         if block.type == "triangle":
             blocks.append(data)
-        elif block.type == "quad":
-            blocks += [data[:, [0, 1, 2]], data[:, [0, 2, 3]]]
+        elif block.type in ("quad", "polygon"):
+            if data.shape[1] < 3:
+                raise ValueError(f"{path}: a face with {data.shape[1]} vertices (is the file truncated or corrupt?)")
+            blocks += [data[:, [0, k, k + 1]] for k in range(1, data.shape[1] - 1)]  # a fan
     if not blocks:
         found = sorted({b.type for b in m.cells})
         raise ValueError(f"{path} holds no triangles or quads (cell types found: {found})")
-    triangles = np.concatenate(blocks)
+    if not remove_unused_vertices and not in_any_cell.all():
+        raise ValueError(
+            f"{path}: {int((~in_any_cell).sum())} of {n_points} vertices are used by no cell (vertex "
+            f"{int(np.argmin(in_any_cell))} is the first): is the file truncated? "
+            "read_surface(..., remove_unused_vertices=True) drops them"
+        )
+    triangles = np.concatenate(blocks).astype(np.int64)
+    copies = duplicate_cells(triangles)
+    if len(copies):
+        i, j = copies[0].tolist()
+        raise ValueError(
+            f"{path}: triangle {j} repeats triangle {i} ({len(copies)} duplicate triangle(s) in all): a surface "
+            "crosses itself there or the file is corrupt"
+        )
     try:
         mesh = Mesh(np.asarray(m.points, dtype=np.float64)[:, :3], triangles, "triangle")
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from e
     used = np.unique(mesh.cells)
-    if len(used) < mesh.n_nodes:  # drop unreferenced points (OBJ normals/texture points, ...)
+    if len(used) < mesh.n_nodes:  # vertices of the ignored cells
         new_index = np.full(mesh.n_nodes, -1, dtype=np.int64)
         new_index[used] = np.arange(len(used))
         mesh = Mesh(mesh.points[used], new_index[mesh.cells], "triangle")
@@ -74,7 +113,7 @@ def read_surface(path: str | os.PathLike[str]) -> Mesh:
 class EmbeddedSurface:
     """A triangle surface embedded in a tet, hex or hex20 body.
 
-    body        Body or volume Mesh (tetra, hexahedron, hexahedron20) that carries it
+    body        Body or volume Mesh (any solid cell type) that carries it
     vertices    (nv, 3) surface vertices at the body's rest configuration
     triangles   (nt, 3) vertex indices (may be empty: a point cloud, whose normals are zero)
     max_outside_distance
@@ -133,10 +172,15 @@ class EmbeddedSurface:
 
     @classmethod
     def from_file(
-        cls, body: Body | Mesh, path: str | os.PathLike[str], max_outside_distance: float = 1.0
+        cls,
+        body: Body | Mesh,
+        path: str | os.PathLike[str],
+        max_outside_distance: float = 1.0,
+        remove_unused_vertices: bool = False,
     ) -> EmbeddedSurface:
-        """The surface in a file meshio reads (.obj, .stl, .ply, ...; see :func:`read_surface`)."""
-        surface = read_surface(path)
+        """The surface in a file (.obj, .stl, .ply, ...; read and checked by :func:`read_surface`,
+        which says what remove_unused_vertices does)."""
+        surface = read_surface(path, remove_unused_vertices=remove_unused_vertices)
         return cls(body, surface.points, surface.cells, max_outside_distance=max_outside_distance)
 
     @property

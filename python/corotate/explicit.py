@@ -4,12 +4,14 @@ critical time step from the highest eigenfrequency, and sub-stepping."""
 from __future__ import annotations
 
 import math
+import warnings
 from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 import corotate._core as _core
 
+from ._numbers import real_number
 from .body import Body
 from .choices import (
     EXPLICIT_INTEGRATORS,
@@ -19,7 +21,7 @@ from .choices import (
     TimeStepPolicyName,
     check_choice,
 )
-from .driven_body import DrivenBody
+from .driven_body import DrivenBody, SimulationWarning
 from .mass_spring import MassSpringBody
 
 if TYPE_CHECKING:
@@ -85,8 +87,8 @@ class ExplicitSimulation(DrivenBody):
             integrator=integrator,
             policy=policy,
             on_unstable=on_unstable,
-            safety=float(safety),
-            mass_damping=float(mass_damping),
+            safety=real_number(safety, "safety"),
+            mass_damping=real_number(mass_damping, "mass_damping"),
         )
         check_choice(integrator, EXPLICIT_INTEGRATORS, "integrator")
         if isinstance(body, MassSpringBody):
@@ -103,7 +105,7 @@ class ExplicitSimulation(DrivenBody):
     def _check_dt(dt: float | None) -> float:
         if dt is None:
             return 0.0
-        dt = float(dt)
+        dt = real_number(dt, "time step dt")
         if not (dt > 0) or not math.isfinite(dt):
             raise ValueError(f"time step dt must be positive and finite (or None for the stable step), got {dt}")
         return dt
@@ -181,8 +183,28 @@ class ExplicitSimulation(DrivenBody):
 
         Raises ValueError for non-finite state or loads and, with on_unstable="raise", when
         dt exceeds the stable step; RuntimeError when a step produces non-finite values.
-        In every case the state is left exactly as it was before the call."""
+        In every case the state is left exactly as it was before the call. With
+        on_unstable="allow", a dt beyond the critical step gives a SimulationWarning (once per
+        simulation, and again after reset())."""
+        self._warn_if_allowed_unstable()
         self._step(n, progress)
+
+    def _warn_if_allowed_unstable(self) -> None:
+        """on_unstable="allow" takes a step beyond the stability limit on purpose, but a run
+        that grows by 1e100 before it fails must not be the first sign of it."""
+        dt = self._settings["time_step"]
+        if self._settings["on_unstable"] != "allow" or not dt or "allowed_unstable" in self._warned:
+            return
+        limit = self.critical_time_step
+        if dt > limit:
+            self._warned.add("allowed_unstable")
+            warnings.warn(
+                f"dt = {dt:.4g} s is {dt / limit:.3g} times the critical step dt_crit = {limit:.4g} s and "
+                "on_unstable='allow' takes it anyway: the run is unstable and will blow up; use 'substep' (the "
+                "default) unless that is the experiment",
+                SimulationWarning,
+                stacklevel=3,
+            )
 
     def advance(self, duration: float) -> None:
         """Advance by duration [s] (needs dt set): round(duration / dt) steps."""
@@ -193,10 +215,6 @@ class ExplicitSimulation(DrivenBody):
     def damping_forces(self) -> np.ndarray:
         """(n, 3) spring damping forces at the current positions and velocities."""
         return self._sim.damping_forces()
-
-    def kinetic_energy(self) -> float:
-        """sum m |v|^2 / 2."""
-        return self._sim.kinetic_energy()
 
     @property
     def stats(self) -> dict:

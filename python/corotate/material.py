@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import corotate._core as _core
 
+from ._numbers import real_number
+
 
 @dataclass(frozen=True)
 class Material:
@@ -15,7 +17,8 @@ class Material:
     nu       Poisson ratio [-], in (-1, 0.5); 0.5 (incompressible) is rejected
     density  mass density [kg/m^3], > 0
 
-    Raises ValueError naming the bad parameter.
+    Raises TypeError for a parameter that is not a real number (a bool is not), ValueError
+    naming the bad parameter.
     """
 
     E: float = 1e6
@@ -23,6 +26,8 @@ class Material:
     density: float = 1000.0
 
     def __post_init__(self) -> None:
+        for name in ("E", "nu", "density"):
+            real_number(getattr(self, name), f"Material {name}")  # TypeError for True, "1e6", ...
         self._core()  # validates
 
     def _core(self) -> _core.Material:

@@ -110,6 +110,8 @@ class Mesh:
                int64 copy. k must match ``cell_type``.
     cell_type  "tetra", "hexahedron" or "hexahedron20" (VTK node orderings,
                see the module docstring).
+    repair     merge coincident nodes and drop duplicate cells (a warning counts
+               each) instead of raising ValueError for them (volume cells).
 
     Attributes
     ----------
@@ -120,14 +122,20 @@ class Mesh:
     Raises
     ------
     ValueError  if the cell type is unsupported, a shape is wrong, a point is
-                not finite or a node index is out of range; the message names
-                the offending node / cell.
+                not finite or a node index is out of range; for volume cells also
+                if cells are duplicated, nodes coincide, a cell names a node twice
+                or cells overlap (see :mod:`corotate.mesh_checks`); the message
+                names the offending node / cell.
     """
 
-    def __init__(self, points: ArrayLike, cells: ArrayLike, cell_type: str = "tetra") -> None:
+    def __init__(self, points: ArrayLike, cells: ArrayLike, cell_type: str = "tetra", repair: bool = False) -> None:
         self.cell_type = _check_cell_type(cell_type)
         self.points = _check_points(points)
         self.cells = _check_cells(cells, self.cell_type, len(self.points))
+        if self.cell_type in VOLUME_CELL_TYPES:  # one solid: see mesh_checks
+            from .mesh_checks import check_volume_mesh
+
+            self.points, self.cells = check_volume_mesh(self, repair=repair)
 
     @property
     def n_nodes(self) -> int:
@@ -326,7 +334,7 @@ def _meshio() -> Any:
     return meshio
 
 
-def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = True) -> Mesh:
+def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = False, repair: bool = False) -> Mesh:
     """Read a volume mesh from a file or take it from a meshio.Mesh.
 
     source  a path in any format meshio reads (.vtu, .vtk, .msh, .xdmf, ...),
@@ -334,9 +342,13 @@ def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = 
             (both must exist; 0- or 1-based as the .node file's first index
             says), or a ``meshio.Mesh`` already in memory.
     remove_unused_nodes
-            drop nodes no cell refers to (they would have no mass and no
-            stiffness) and renumber the rest, keeping their order; a warning
-            says how many were dropped.
+            nodes no cell refers to (they would have no mass and no stiffness)
+            are an error by default: they are what a truncated file leaves (an
+            Abaqus file cut at 80 % keeps all nodes but a few cells). True drops
+            them and renumbers the rest, keeping their order; a warning says how
+            many were dropped.
+    repair  merge coincident nodes and drop duplicate cells, with a warning
+            counting each, instead of raising (see :class:`Mesh`).
     returns  Mesh with one of the supported cell types.
 
     Cells with negative signed volume are mirrored into VTK orientation (for
@@ -356,7 +368,9 @@ def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = 
                 names the file and the problem), holds no supported volume
                 cells (the message lists the types found and the supported
                 ones), holds other volume cells (wedges, pyramids, unknown
-                types), or several supported volume types (one type per body).
+                types), or several supported volume types (one type per body);
+                has nodes no cell uses (see remove_unused_nodes), duplicate
+                cells, coincident nodes (see repair) or overlapping cells.
     """
     from . import mesh_io
 
@@ -364,18 +378,16 @@ def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = 
         label = "meshio.Mesh"
         points, cells, cell_type = mesh_io.volume_cells(source, label, stacklevel=2)
     else:
+        from .mesh_files import read_mesh_file
+
         path = Path(os.fspath(source))
         label = str(path)
-        if path.suffix.lower() in (".node", ".ele"):
-            points, cells, cell_type = mesh_io.read_tetgen(path)
-        else:
-            points, cells, cell_type = mesh_io.volume_cells(mesh_io.read_meshio_file(path), label, stacklevel=2)
+        points, cells, cell_type = mesh_io.volume_cells(read_mesh_file(path), label, stacklevel=2)
     try:
-        mesh = Mesh(points, cells, cell_type)  # validates before any renumbering
+        mesh = Mesh(points, cells, cell_type, repair=repair)  # validates before any renumbering
     except ValueError as e:
         raise ValueError(f"{label}: {e}") from e
-    if remove_unused_nodes:
-        mesh = _drop_unused_nodes(mesh, label)
+    mesh = _drop_unused_nodes(mesh, label, remove_unused_nodes)
     _fix_orientation(mesh, label)
     return mesh
 
@@ -387,13 +399,20 @@ def _is_meshio_mesh(obj: Any) -> bool:
     return hasattr(obj, "points") and hasattr(obj, "cells")
 
 
-def _drop_unused_nodes(mesh: Mesh, path: str | os.PathLike[str]) -> Mesh:
-    """Mesh without the nodes no cell uses (others keep their order)."""
+def _drop_unused_nodes(mesh: Mesh, path: str | os.PathLike[str], remove: bool) -> Mesh:
+    """Mesh without the nodes no cell uses (others keep their order); ValueError for
+    unused nodes unless remove."""
     used = np.zeros(mesh.n_nodes, dtype=bool)
     used[mesh.cells] = True
     n_unused = int((~used).sum())
     if n_unused == 0:
         return mesh
+    if not remove:
+        raise ValueError(
+            f"{path}: {n_unused} of {mesh.n_nodes} node(s) are used by no cell (node {int(np.argmin(used))} is "
+            "the first): is the file truncated? (a cut file keeps its nodes but loses cells); "
+            "read_mesh(..., remove_unused_nodes=True) drops them"
+        )
     new_index = np.cumsum(used) - 1
     warnings.warn(
         f"{path}: removed {n_unused} node(s) not used by any cell; "

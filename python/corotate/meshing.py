@@ -13,16 +13,22 @@ from __future__ import annotations
 
 import os
 import tempfile
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ._child_process import ChildFailed, run_script
 from .mesh import Mesh
+from .surface_checks import check_closed_surface, enclosed_volume
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
 __all__ = ["tetrahedralize", "mesher_available"]
+
+# fTetWild runs in a child process started from this script (see _run_in_child).
+_CHILD_SCRIPT = Path(__file__).with_name("_tetwild_child.py")
 
 _EXTRA = "tetrahedralize needs the optional extra: pip install 'corotate-fem[mesh]' (pytetwild, pyvista)"
 
@@ -51,11 +57,12 @@ def tetrahedralize(
     envelope: float = 2e-3,
     max_tries: int = 4,
     tolerance: float = 0.25,
+    time_limit: float = 600.0,
 ) -> Mesh:
     """Fill a closed triangle surface with tetrahedra (fTetWild).
 
-    surface       a triangle Mesh, a file meshio reads (.obj, .stl, .ply, ...), or
-                  (vertices (nv, 3), triangles (nt, 3))
+    surface       a triangle Mesh, a file (.obj, .stl, .ply, .off, ...; read as by
+                  :func:`corotate.read_surface`), or (vertices (nv, 3), triangles (nt, 3))
     target_cells  about how many tets (default 1000): the ideal edge length is guessed
                   from the enclosed volume and corrected from the count of each try,
                   until the count is within ``tolerance`` (relative) of the target or
@@ -65,20 +72,28 @@ def tetrahedralize(
     envelope      how far the tet mesh's boundary may deviate from the surface,
                   relative to the bounding-box diagonal (fTetWild's epsilon); coarse
                   cages need some room (default 2e-3)
+    time_limit    seconds fTetWild may run (all tries together) before it is stopped
     returns       Mesh of positively oriented "tetra" cells (VTK order)
 
-    Raises ImportError naming the extra when pytetwild is missing, ValueError for a
-    surface that is not triangles, not finite, or encloses no volume.
-    """
-    from .embedding import read_surface
+    The surface is checked first (see :func:`corotate.surface_checks.check_closed_surface`):
+    closed, every edge on exactly two triangles, no vertex far off the rest (a corrupt
+    coordinate would make fTetWild fill a huge box for minutes, or crash). fTetWild runs
+    in a child process, so that a crash inside it cannot end the caller's process.
 
+    Raises ImportError naming the extra when pytetwild is missing; ValueError for a
+    surface that is not triangles, not finite, open, non-manifold, has outlier vertices
+    (named) or encloses no volume; RuntimeError when fTetWild crashes (the signal is
+    named) or exceeds time_limit.
+    """
     if isinstance(surface, Mesh):
-        tri_mesh = surface
+        tri_mesh, label = surface, "the surface"
     elif isinstance(surface, (str, os.PathLike)):
-        tri_mesh = read_surface(surface)
+        from .embedding import read_surface
+
+        tri_mesh, label = read_surface(surface), str(surface)
     else:
         vertices, triangles = surface
-        tri_mesh = Mesh(vertices, triangles, "triangle")
+        tri_mesh, label = Mesh(vertices, triangles, "triangle"), "the surface"
     if tri_mesh.cell_type != "triangle" or tri_mesh.n_cells == 0:
         raise ValueError("tetrahedralize needs a surface of triangles")
     if target_cells is None and (edge_length is None or not edge_length > 0):
@@ -87,47 +102,43 @@ def tetrahedralize(
         raise ValueError(f"target_cells must be >= 1, got {target_cells}")
     if not 0 < envelope < 1:
         raise ValueError(f"envelope must be in (0, 1), got {envelope}")
-    pytetwild = _pytetwild()
-
+    if not time_limit > 0:
+        raise ValueError(f"time_limit must be positive, got {time_limit}")
     x, tri = tri_mesh.points, tri_mesh.cells
-    # Enclosed volume by the divergence theorem (orientation-independent: its magnitude).
-    volume = abs(np.einsum("ij,ij->i", x[tri[:, 0]], np.cross(x[tri[:, 1]], x[tri[:, 2]])).sum()) / 6
-    if not volume > 0:
-        raise ValueError("the surface encloses no volume (is it closed?)")
-
-    def run(length: float) -> tuple[np.ndarray, np.ndarray]:
-        # fTetWild writes a scratch file (__tracked_surface.stl) into the working directory:
-        # run it in a temporary one (the working directory is process-wide, so a concurrent
-        # thread that uses relative paths would be affected while it runs).
-        cwd = os.getcwd()
-        with tempfile.TemporaryDirectory(prefix="corotate-tetwild-") as scratch:
-            os.chdir(scratch)
-            try:
-                points, tets = pytetwild.tetrahedralize(
-                    x, tri.astype(np.int32), edge_length_abs=float(length), epsilon=envelope, coarsen=True, quiet=True
-                )
-            finally:
-                os.chdir(cwd)
-        return np.asarray(points, dtype=np.float64), np.asarray(tets, dtype=np.int64)
-
+    check_closed_surface(x, tri, label)
+    _pytetwild()  # ImportError naming the extra, before the child process starts
+    request: dict[str, Any] = {"vertices": x, "triangles": tri, "envelope": float(envelope)}
     if target_cells is None:
-        points, tets = run(float(edge_length))  # type: ignore[arg-type]
+        request["edge_length"] = float(edge_length)  # type: ignore[arg-type]
     else:
         # A regular tet of edge L has volume L^3 / (6 sqrt 2); meshes have ~1.5x smaller cells.
-        length = (volume / target_cells * 6 * np.sqrt(2) * 1.5) ** (1 / 3)
-        best: tuple[np.ndarray, np.ndarray] | None = None
-        for _ in range(max(1, int(max_tries))):
-            points, tets = run(length)
-            if best is None or abs(len(tets) - target_cells) < abs(len(best[1]) - target_cells):
-                best = (points, tets)
-            ratio = len(tets) / target_cells
-            if abs(ratio - 1) <= tolerance or len(tets) == 0:
-                break
-            length *= ratio ** (1 / 3)
-        points, tets = best  # type: ignore[misc]
+        volume = abs(enclosed_volume(x, tri))
+        request.update(
+            target_cells=int(target_cells),
+            first_length=(volume / target_cells * 6 * np.sqrt(2) * 1.5) ** (1 / 3),
+            max_tries=int(max_tries),
+            tolerance=float(tolerance),
+        )
+    points, tets = _run_in_child(request, float(time_limit))
     if len(tets) == 0:
         raise ValueError("fTetWild returned no tetrahedra (is the surface closed?)")
     mesh = Mesh(points, tets, "tetra")
     negative = mesh.cell_volumes() < 0
     mesh.cells[negative] = mesh.cells[negative][:, [0, 2, 1, 3]]  # fTetWild's own order is mirrored
     return mesh
+
+
+def _run_in_child(request: dict[str, Any], time_limit: float) -> tuple[np.ndarray, np.ndarray]:
+    """(points, tets) from _tetwild_child.py run in a child process in a scratch directory
+    (fTetWild writes a scratch file into its working directory); RuntimeError naming what
+    happened when it crashes, fails or runs past time_limit seconds."""
+    with tempfile.TemporaryDirectory(prefix="corotate-tetwild-") as scratch:
+        request_path, answer_path = Path(scratch, "request.npz"), Path(scratch, "answer.npz")
+        np.savez(request_path, **request)
+        try:
+            run_script(_CHILD_SCRIPT, [str(request_path), str(answer_path)], time_limit, cwd=scratch)
+        except ChildFailed as e:
+            hint = "; a coarser target (fewer target_cells) or a cleaner surface may help" if "within" in str(e) else ""
+            raise RuntimeError(f"fTetWild failed (time_limit={time_limit:g} s): {e}{hint}") from None
+        with np.load(answer_path, allow_pickle=False) as answer:
+            return np.asarray(answer["points"], dtype=np.float64), np.asarray(answer["tets"], dtype=np.int64)

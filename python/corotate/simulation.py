@@ -8,6 +8,7 @@ import numpy as np
 
 import corotate._core as _core
 
+from ._numbers import real_number
 from .body import Body
 from .choices import IMPLICIT_INTEGRATORS, MASS_KINDS, FailurePolicy, ImplicitIntegratorName, MassKind, check_choice
 from .driven_body import DrivenBody
@@ -68,12 +69,12 @@ class Simulation(DrivenBody):
         if solver is None:
             solver = Direct() if integrator == "newton" else PCG()
         _check_solver(solver)
-        alpha, beta = (float(v) for v in rayleigh)
+        alpha, beta = (real_number(v, "rayleigh") for v in rayleigh)
         self._body = body
         self._solver = solver
         settings = _core.IntegratorSettings(
             integrator=integrator,
-            time_step=float(dt),
+            time_step=real_number(dt, "dt"),
             mass_damping=alpha,
             stiffness_damping=beta,
             lumped_mass=mass == "lumped",
@@ -96,7 +97,7 @@ class Simulation(DrivenBody):
         s = self._sim.settings
         self._sim.settings = _core.IntegratorSettings(
             integrator=s.integrator,
-            time_step=float(value),  # validated in C++
+            time_step=real_number(value, "dt"),  # its range is checked in C++
             mass_damping=s.mass_damping,
             stiffness_damping=s.stiffness_damping,
             lumped_mass=s.lumped_mass,
@@ -160,10 +161,6 @@ class Simulation(DrivenBody):
         if progress is not None and not callable(progress):
             raise TypeError(f"progress must be a callable progress(done, n), got {type(progress).__name__}")
         return self._sim.solve_static(int(load_steps), float(tolerance), int(max_iterations), prescribed, progress)
-
-    def kinetic_energy(self) -> float:
-        """1/2 v^T M v with the simulation's mass matrix kind."""
-        return self._sim.kinetic_energy()
 
     @property
     def stats(self) -> dict:

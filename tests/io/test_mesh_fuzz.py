@@ -30,6 +30,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 import pytest
+from mutations import byte_flip, delete_line, pick_file, repeat_line, truncate
 
 import corotate as cr
 
@@ -83,39 +84,6 @@ FORMATS = ["vtu-ascii", "vtu-binary", "vtu-raw", "gmsh22", "gmsh41", "tetgen0", 
 
 
 # -- mutations: (files, rng) -> files -------------------------------------------
-
-
-def pick_file(files: dict[str, bytes], rng: random.Random) -> str:
-    return rng.choice(sorted(files))
-
-
-def byte_flip(files, rng):
-    k = pick_file(files, rng)
-    b = bytearray(files[k])
-    for _ in range(rng.choice([1, 1, 2, 5])):
-        i = rng.randrange(len(b))
-        b[i] = rng.randrange(256) if rng.random() < 0.5 else b[i] ^ (1 << rng.randrange(8))
-    return {**files, k: bytes(b)}
-
-
-def truncate(files, rng):
-    k = pick_file(files, rng)
-    return {**files, k: files[k][: rng.randrange(len(files[k]))]}
-
-
-def delete_line(files, rng):
-    k = pick_file(files, rng)
-    lines = files[k].split(b"\n")
-    del lines[rng.randrange(len(lines))]
-    return {**files, k: b"\n".join(lines)}
-
-
-def repeat_line(files, rng):
-    k = pick_file(files, rng)
-    lines = files[k].split(b"\n")
-    i = rng.randrange(len(lines))
-    lines.insert(i, lines[i])
-    return {**files, k: b"\n".join(lines)}
 
 
 INT = re.compile(rb"(?<![\w.+-])-?\d+(?![\w.])")

@@ -250,7 +250,7 @@ def test_step_with_inverted_element_stays_finite():
 
     f = sim.internal_forces()
     assert np.all(np.isfinite(f)) and np.abs(f).max() > 0
-    assert np.isfinite(sim.energy()) and sim.energy() > 0
+    assert np.isfinite(sim.energy) and sim.energy > 0
     d = sim.positions[mesh.cells]
     inverted = int((np.linalg.det(d[:, 1:] - d[:, :1]) <= 0).sum())  # counted independently
     with pytest.warns(

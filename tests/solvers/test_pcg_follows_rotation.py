@@ -33,7 +33,7 @@ def test_a_freely_spinning_body_does_not_run_away():
         for _ in range(25):
             sim.step(1)
             positions.append(sim.positions.copy())
-            energies.append(sim.kinetic_energy() + body.energy(sim.positions))
+            energies.append(sim.kinetic_energy + body.energy(sim.positions))
         runs[name] = (np.array(positions), np.array(energies), sim.stats["iterations_per_step"])
     reference, reference_energy, _ = runs["direct"]
     positions, energy, iterations = runs["default"]

@@ -20,6 +20,8 @@ from __future__ import annotations
 import functools
 import os
 import threading
+import zipfile
+import zlib
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, ClassVar, TypeVar
 
@@ -405,7 +407,33 @@ class ModalBody(SettableOnly):
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> ModalBody:
-        """A ModalBody from a file written by save() (state at rest, t = 0)."""
+        """A ModalBody from a file written by save() (state at rest, t = 0).
+
+        Raises FileNotFoundError for a missing file and ValueError naming the file and what
+        is wrong with it: not a NumPy .npz archive, truncated or corrupt, not written by
+        save(), or holding arrays that do not fit together."""
+        if not Path(path).is_file():
+            raise FileNotFoundError(f"modal body file not found: {path}")
+        with Path(path).open("rb") as f:
+            magic = f.read(4)
+        if magic != b"PK\x03\x04":
+            raise ValueError(
+                f"{path} is not a corotate modal body file: save() writes a NumPy .npz (zip) archive, which starts "
+                f"with the bytes PK\\x03\\x04; this file starts with {magic!r}"
+            )
+        try:
+            return cls._load_npz(path)
+        except (zipfile.BadZipFile, EOFError, zlib.error, OSError) as e:
+            raise ValueError(f"{path} is truncated or corrupt: the .npz archive cannot be read ({e})") from e
+        except KeyError as e:
+            raise ValueError(f"{path} is not a complete corotate modal body file: it lacks the array {e}") from e
+        except (ValueError, TypeError) as e:
+            if str(path) in str(e):
+                raise
+            raise ValueError(f"{path} holds an inconsistent modal body: {e}") from e
+
+    @classmethod
+    def _load_npz(cls, path: str | os.PathLike[str]) -> ModalBody:
         with np.load(os.fspath(path), allow_pickle=False) as data:
             if "format_version" not in data or int(data["format_version"]) != _FORMAT_VERSION:
                 raise ValueError(f"{path} is not a corotate modal body file (format {_FORMAT_VERSION})")

@@ -75,6 +75,40 @@ class ModalBasis:
     n_normal_modes: int
     n_extra: int = 0
 
+    def __post_init__(self) -> None:
+        """Check everything at construction, in the user's terms (a NaN in a vector would
+        give NaN displacements, a wrong shape a raw IndexError steps later); store the
+        arrays as C-contiguous float64 / int64 copies."""
+        rest = _finite_array(self.rest_positions, "rest_positions")
+        if rest.ndim != 2 or rest.shape[1] != 3:
+            raise ValueError(f"ModalBasis rest_positions must have shape (n, 3), got {rest.shape}")
+        n = rest.shape[0]
+        vectors = _finite_array(self.vectors, "vectors")
+        if vectors.ndim != 2 or vectors.shape[0] != 3 * n or vectors.shape[1] < 1:
+            raise ValueError(
+                f"ModalBasis vectors must have shape (3n, r) = ({3 * n}, r), one row per DOF of the {n} rest "
+                f"positions and r >= 1 columns, got {vectors.shape}"
+            )
+        r = vectors.shape[1]
+        eigenvalues = _finite_array(self.eigenvalues, "eigenvalues")
+        if eigenvalues.shape != (r,):
+            raise ValueError(f"ModalBasis eigenvalues must have shape ({r},), one per vector, got {eigenvalues.shape}")
+        fixed = _index_array(self.fixed_dofs, 3 * n, "fixed_dofs", "DOF")
+        interface = _index_array(self.interface_nodes, n, "interface_nodes", "node")
+        for name in ("n_normal_modes", "n_extra"):
+            value = getattr(self, name)
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < 0:
+                raise ValueError(f"ModalBasis {name} must be an integer >= 0, got {value!r}")
+            object.__setattr__(self, name, int(value))
+        for name, value in (
+            ("rest_positions", rest),
+            ("vectors", vectors),
+            ("eigenvalues", eigenvalues),
+            ("fixed_dofs", fixed),
+            ("interface_nodes", interface),
+        ):
+            object.__setattr__(self, name, value)
+
     @property
     def size(self) -> int:
         """Number of basis vectors r."""
@@ -84,6 +118,29 @@ class ModalBasis:
     def frequencies(self) -> np.ndarray:
         """(r,) natural frequencies of the reduced model [Hz]."""
         return np.sqrt(np.maximum(self.eigenvalues, 0.0)) / (2 * np.pi)
+
+
+def _finite_array(value: ArrayLike, name: str) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=np.float64, order="C")
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"ModalBasis {name} must be an array of numbers ({e})") from None
+    bad = np.argwhere(~np.isfinite(a))
+    if len(bad):
+        where = ", ".join(map(str, bad[0].tolist()))
+        raise ValueError(f"ModalBasis {name} holds {a[tuple(bad[0])]} at [{where}] ({len(bad)} non-finite value(s))")
+    return a
+
+
+def _index_array(value: ArrayLike, end: int, name: str, what: str) -> np.ndarray:
+    a = np.asarray(value)
+    if a.ndim != 1 or (a.size and a.dtype.kind not in "iu"):
+        raise ValueError(f"ModalBasis {name} must be a 1-D array of integer {what} indices, got shape {a.shape}")
+    a = a.astype(np.int64)
+    bad = a[(a < 0) | (a >= end)]
+    if bad.size:
+        raise ValueError(f"ModalBasis {name}: {what} {int(bad[0])} is out of range [0, {end})")
+    return a
 
 
 def _free_dofs(n_dofs: int, fixed_dofs: np.ndarray) -> np.ndarray:
