@@ -1,6 +1,7 @@
 """Nothing lost, nothing twice: workers killed with SIGKILL in the middle of a sweep, a sweep
 stopped by Ctrl-C and started again, runs half-written by a dead worker."""
 
+import collections
 import os
 import signal
 import subprocess
@@ -24,12 +25,13 @@ TABLE = cr.ParameterTable.grid(E=np.linspace(2e5, 1e6, 6), nu=[0.1, 0.3, 0.4], t
 VICTIM = 100  # the run whose worker kills itself, the first time it is tried
 
 
-def killing_scene(marker):
+def killing_scene(marker, calls):
     """The cantilever, except that the first attempt at run VICTIM SIGKILLs its own worker
-    half-way: after stepping, before returning."""
+    half-way: after stepping, before returning. Each call leaves a file in calls."""
     victim = TABLE.row(VICTIM)
 
     def scene(E, nu, tip_load):
+        open(os.path.join(calls, f"{E!r}_{nu!r}_{tip_load!r}_{os.urandom(6).hex()}"), "w").close()
         result = cantilever(E, nu, tip_load)
         if (E, nu, tip_load) == tuple(victim.values()) and not os.path.exists(marker):
             open(marker, "w").close()
@@ -58,6 +60,8 @@ def test_workers_killed_mid_sweep_lose_nothing_and_repeat_nothing(tmp_path, clie
     workers; every run is stored exactly once and equals the run done alone."""
     out = tmp_path / "killed.zarr"
     marker = tmp_path / "victim-killed"
+    calls = tmp_path / "calls"
+    calls.mkdir()
     pids_before = set(client.run(os.getpid).values())
     killed = []
 
@@ -77,7 +81,7 @@ def test_workers_killed_mid_sweep_lose_nothing_and_repeat_nothing(tmp_path, clie
 
     killer = threading.Thread(target=kill_the_other_worker_later)
     killer.start()
-    report = cr.run_sweep(killing_scene(str(marker)), TABLE, out, scheduler=client, progress=False)
+    report = cr.run_sweep(killing_scene(str(marker), str(calls)), TABLE, out, scheduler=client, progress=False)
     killer.join()
     assert marker.exists() and len(killed) == 1  # both deaths happened
     assert not set(client.run(os.getpid).values()) & pids_before  # both workers are new processes
@@ -86,6 +90,12 @@ def test_workers_killed_mid_sweep_lose_nothing_and_repeat_nothing(tmp_path, clie
     assert run_folders(out) == [f"r{i:06d}" for i in range(360)]
     assert list((out / ".incoming").iterdir()) == []
     assert_equal_to_runs_alone(out, range(360))
+    # each run computed once, but for the two in the hands of the killed workers
+    per_run = collections.Counter(name.rsplit("_", 1)[0] for name in os.listdir(calls))
+    assert len(per_run) == 360 and sum(per_run.values()) <= 362
+    twice = [key for key, count in per_run.items() if count > 1]
+    victim = TABLE.row(VICTIM)
+    assert max(per_run.values()) == 2 and f"{victim['E']!r}_{victim['nu']!r}_{victim['tip_load']!r}" in twice
 
 
 def test_ctrl_c_stops_the_command_and_the_restart_computes_only_what_is_missing(tmp_path, client):

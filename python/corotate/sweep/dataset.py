@@ -106,5 +106,6 @@ def _read_block(stored: dict[int, dict[str, Any]], block_info: Any = None) -> np
             values = zarr_v2.read_region(
                 meta["folder"], tuple(meta["shape"]), tuple(meta["chunks"]), meta["dtype"], region
             )
-            out[(0, *(slice(0, s.stop - s.start) for s in region))] = values
+            within_run = out.reshape(out.shape[1:])  # a view: the run axis has length 1
+            within_run[tuple(slice(0, s.stop - s.start) for s in region)] = values
     return out

@@ -141,18 +141,20 @@ def run_sweep(
                 statuses.count("failed"),
                 stream=sys.stderr if progress else None,
             )
-            computed = _run_all(client, store, table, todo, blob, threads_per_run, runs_per_task, bar)
+            _run_all(client, store, table, todo, blob, threads_per_run, runs_per_task, bar)
             store.remove_incomplete()  # copies of tasks that lost the race to write
     finally:
         _close(own_client, cluster)
-    statuses = list(store.finished().values())
+    now = store.finished()
+    statuses = list(now.values())
     return SweepReport(
         path=store.path,
         total=len(table),
         done=statuses.count("done"),
         failed=statuses.count("failed"),
         found=len(finished),
-        computed=computed,
+        # what this call's tasks wrote, whichever attempt of a task it was
+        computed=[run for run in todo if run in now],
         removed=removed,
         seconds=time.monotonic() - started,
     )
@@ -167,9 +169,9 @@ def _run_all(
     threads: int,
     runs_per_task: int | None,
     bar: ProgressBar,
-) -> list[int]:
-    """Submit the runs of todo in tasks of a few runs each and wait for all; returns the runs
-    this call computed. Ctrl-C cancels what is left."""
+) -> None:
+    """Submit the runs of todo in tasks of a few runs each and wait for all. Ctrl-C cancels
+    what is left."""
     from distributed import as_completed
 
     try:
@@ -192,7 +194,6 @@ def _run_all(
     size = runs_per_task or _auto_runs_per_task(len(todo), client)
     futures = submit([todo[i : i + size] for i in range(0, len(todo), size)])
     pending = as_completed(futures, loop=client.loop)
-    computed = []
     try:
         for future in pending:
             batch = batch_of.pop(future.key)
@@ -212,9 +213,7 @@ def _run_all(
             except Exception as err:  # not the scene's own errors: those are recorded as failures
                 raise RuntimeError(f"runs {batch} could not be computed and written to {store.path}: {err}") from err
             future.release()
-            for run, status, wrote in outcomes:
-                if wrote:
-                    computed.append(run)
+            for _run, status, wrote in outcomes:
                 bar.update(status, computed=wrote)
     except KeyboardInterrupt:
         client.cancel(futures)
@@ -228,7 +227,6 @@ def _run_all(
         bar.close()
         raise
     bar.close()
-    return sorted(computed)
 
 
 def _auto_runs_per_task(n_runs: int, client: Any) -> int:
@@ -293,7 +291,8 @@ def _unpickled(blob: bytes) -> Callable[..., Any]:
     """The scene of a blob, unpickled once per worker process."""
     import cloudpickle
 
-    return cloudpickle.loads(blob)  # type: ignore[no-any-return]
+    scene: Callable[..., Any] = cloudpickle.loads(blob)
+    return scene
 
 
 def _connect(scheduler: Any, workers: int | None, threads: int, timeout: float) -> tuple[Any, Any]:

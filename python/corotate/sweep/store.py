@@ -204,7 +204,7 @@ class SweepStore:
         temporary = self.incoming / f"{run_name(run)}.{socket.gethostname()}.{os.getpid()}.{uuid.uuid4().hex}"
         try:
             zarr_v2.new_group(temporary)
-            described = {}
+            described: dict[str, dict[str, Any]] = {}
             for name, (dims, data) in outputs.items():
                 chunks = frame_chunks(dims, data)
                 zarr_v2.write_array(temporary, name, data, chunks, dims)
