@@ -122,3 +122,33 @@ def test_bad_arguments_are_named(tmp_path):
         lock = __import__("threading").Lock()
         cr.run_sweep(lambda E, nu, tip_load: lock, table, tmp_path / "a")
     assert os.listdir(tmp_path) == []
+
+
+def crashing_scene(E, nu, tip_load):
+    """The cantilever, but E = 666 kills its worker process each time, as a crash in native code would."""
+    if E == 666.0:
+        os.kill(os.getpid(), 9)
+    return cantilever(E, nu, tip_load)
+
+
+def test_a_run_that_kills_every_worker_it_is_tried_on_is_recorded_as_failed(tmp_path):
+    """With Dask's allowed-failures at 0, one death is enough: the task of runs 2 and 3 (two
+    runs a task) dies, its runs are tried one by one, run 3 alone completes and run 2's death
+    is recorded as its failure. (worker-saturation 1, as run_sweep's own LocalCluster has it:
+    no task waits on a worker behind another, to die with it.)"""
+    import dask
+    import distributed
+
+    table = cr.ParameterTable({"E": [3e5, 4e5, 666.0, 5e5], "nu": [0.3] * 4, "tip_load": [1.0] * 4})
+    settings = {"distributed.scheduler.allowed-failures": 0, "distributed.scheduler.worker-saturation": 1.0}
+    with dask.config.set(settings):
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
+    with cluster, distributed.Client(cluster, set_as_default=False) as client:
+        report = cr.run_sweep(
+            crashing_scene, table, tmp_path / "out.zarr", scheduler=client, runs_per_task=2, progress=False
+        )
+    assert (report.done, report.failed, report.computed) == (3, 1, [0, 1, 2, 3])
+    ds = cr.open_sweep(tmp_path / "out.zarr")
+    assert list(ds.status.values) == ["done", "done", "failed", "done"]
+    assert ds.error.values[2].startswith("the worker running it died each time it was tried")
+    assert np.array_equal(ds.tip.values[3], cantilever(5e5, 0.3, 1.0)["tip"][1])

@@ -108,14 +108,11 @@ def run_sweep(
     table = ParameterTable.coerce(table)
     if not callable(scene):
         raise TypeError(f"scene must be a function of the parameters, got {type(scene).__name__}")
-    if isinstance(threads_per_run, bool) or not isinstance(threads_per_run, int) or threads_per_run < 1:
-        raise ValueError(f"threads_per_run must be an integer >= 1, got {threads_per_run!r}")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
-    if runs_per_task is not None and (
-        isinstance(runs_per_task, bool) or not isinstance(runs_per_task, int) or runs_per_task < 1
-    ):
-        raise ValueError(f"runs_per_task must be an integer >= 1, got {runs_per_task!r}")
+    _check_count(threads_per_run, "threads_per_run")
+    if workers is not None:
+        _check_count(workers, "workers")
+    if runs_per_task is not None:
+        _check_count(runs_per_task, "runs_per_task")
     if workers is not None and scheduler is not None:
         raise ValueError("workers sizes the LocalCluster only; an existing scheduler has the workers it has")
     blob = _pickled(scene)
@@ -277,6 +274,11 @@ def _run_one(store: SweepStore, scene: Callable[..., Any], run: int, params: dic
     return (status if wrote else (store.status(run) or status)), wrote
 
 
+def _check_count(value: object, name: str) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+
+
 def _pickled(scene: Callable[..., Any]) -> bytes:
     import cloudpickle
 
@@ -305,8 +307,14 @@ def _connect(scheduler: Any, workers: int | None, threads: int, timeout: float) 
     if isinstance(scheduler, Client):
         return None, None
     if scheduler is None:
+        import dask
+
         n = workers or max(1, (os.cpu_count() or 1) // threads)
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
+        # worker-saturation 1: a worker holds only the task it runs, so a run that crashes its
+        # worker takes no queued task of another run down with it (each death counts against
+        # every task on the worker, and allowed-failures of them fail the task)
+        with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
         return Client(cluster, set_as_default=False), cluster
     target = scheduler if isinstance(scheduler, str) else getattr(scheduler, "scheduler_address", None)
     if target is None:
