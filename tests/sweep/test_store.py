@@ -18,7 +18,7 @@ def run_folders(store):
     return sorted(p.name for p in store.runs.iterdir() if p.is_dir())
 
 
-TABLE = ParameterTable.grid(E=[1e6, 2e6], tip_load=[1.0, 2.0])
+TABLE = ParameterTable.grid(E=[1e6, 2e6], load=[1.0, 2.0])
 
 
 def outputs(seed):

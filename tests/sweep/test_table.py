@@ -30,7 +30,7 @@ def test_a_list_of_runs_keeps_its_order_and_kinds():
 def test_latin_hypercube_puts_one_sample_in_each_stratum():
     n = 50
     table = ParameterTable.latin_hypercube(n, {"E": (1e5, 1e7), "load": (0.0, 10.0)}, seed=3, log=["E"])
-    load = table.columns["tip_load"]
+    load = table.columns["load"]
     log_E = np.log(table.columns["E"])
     # each of the n equal strata of each range holds exactly one sample
     assert sorted((load // (10.0 / n)).astype(int)) == list(range(n))

@@ -75,7 +75,7 @@ def run_sweep_command(args: argparse.Namespace) -> int:
     print(
         f"corotate sweep: {report.total} runs in {report.path}: {report.done} done, {report.failed} failed; "
         f"this start found {report.found} finished, computed {len(report.computed)}, "
-        f"redid {len(report.removed)} half-written, in {report.seconds:.1f} s"
+        f"removed {len(report.removed)} half-written (and computed them), in {report.seconds:.1f} s"
     )
     print(f"  open it with: corotate.open_sweep({str(report.path)!r})")
     return 0

@@ -140,6 +140,12 @@ def run_sweep(
             )
             _run_all(client, store, table, todo, blob, threads_per_run, runs_per_task, bar)
             store.remove_incomplete()  # copies of tasks that lost the race to write
+    except KeyboardInterrupt:
+        if cluster is not None:  # our workers die mid-run: no log lines from them about it
+            from .worker_plugin import mute_logs
+
+            own_client.run(mute_logs)
+        raise
     finally:
         _close(own_client, cluster)
     now = store.finished()
@@ -309,13 +315,19 @@ def _connect(scheduler: Any, workers: int | None, threads: int, timeout: float) 
     if scheduler is None:
         import dask
 
+        from .worker_plugin import IgnoreCtrlC
+
         n = workers or max(1, (os.cpu_count() or 1) // threads)
         # worker-saturation 1: a worker holds only the task it runs, so a run that crashes its
         # worker takes no queued task of another run down with it (each death counts against
         # every task on the worker, and allowed-failures of them fail the task)
         with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
-        return Client(cluster, set_as_default=False), cluster
+        client = Client(cluster, set_as_default=False)
+        # register_plugin since distributed 2023.9.2; register_worker_plugin before
+        register = getattr(client, "register_plugin", None) or getattr(client, "register_worker_plugin")  # noqa: B009
+        register(IgnoreCtrlC())
+        return client, cluster
     target = scheduler if isinstance(scheduler, str) else getattr(scheduler, "scheduler_address", None)
     if target is None:
         raise TypeError(
