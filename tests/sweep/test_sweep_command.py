@@ -27,7 +27,7 @@ def test_help_names_the_spec_and_the_options(capsys):
         cli.main(["sweep", "--help"])
     assert done.value.code == 0
     text = " ".join(capsys.readouterr().out.split())
-    for words in ("SPEC", "defines scene", "table", "--scheduler", "--workers", "--threads-per-run", "--retry-failed"):
+    for words in ("SPEC", "defines scene", "table", "--scheduler", "--workers", "--threads-per-run", "--runs-per-task"):
         assert words in text
 
 

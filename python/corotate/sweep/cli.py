@@ -42,6 +42,11 @@ def add_sweep_command(sub: Any) -> None:
         default=1,
         help="corotate threads (set_threads) each worker steps its scene with (default 1)",
     )
+    sweep.add_argument(
+        "--runs-per-task",
+        type=int,
+        help="runs one Dask task computes (default: up to 16, for runs of milliseconds; 1 for runs of minutes)",
+    )
     sweep.add_argument("--retry-failed", action="store_true", help="compute runs recorded as failed again")
     sweep.add_argument(
         "--connect-timeout", type=float, default=10.0, help="seconds to wait for --scheduler to answer (default 10)"
@@ -66,6 +71,7 @@ def run_sweep_command(args: argparse.Namespace) -> int:
             workers=args.workers,
             threads_per_run=args.threads_per_run,
             retry_failed=args.retry_failed,
+            runs_per_task=args.runs_per_task,
             progress=args.progress,
             connect_timeout=args.connect_timeout,
         )

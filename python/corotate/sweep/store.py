@@ -62,7 +62,7 @@ class SweepStore:
     """The output folder of one sweep (see the module's docstring for the layout)."""
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
-        self.path = Path(path)
+        self.path = Path(path).absolute()  # the workers may start elsewhere (a cluster node)
         self.runs = self.path / "runs"
         self.incoming = self.path / ".incoming"
 
