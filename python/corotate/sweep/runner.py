@@ -123,6 +123,7 @@ def run_sweep(
     client = own_client or scheduler
     try:
         with store.locked():
+            store.check_compatible(fingerprint, name)  # again: another process may have begun meanwhile
             store.create(fingerprint, name, table)
             removed = store.remove_incomplete()
             finished = store.finished()
