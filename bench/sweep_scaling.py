@@ -3,11 +3,11 @@
 worker and of two, each worker stepping its scenes on one thread. Prints both wall times,
 their ratio and the machine's load (on a shared machine the other work takes cores too).
 
-    python bench/sweep_scaling.py --runs 48
+    python bench/sweep_scaling.py
 
-The clusters are started before the clock starts (a LocalCluster takes a few seconds to
-start; that cost is paid once per sweep, not per run). Each sweep writes into a fresh
-temporary folder.
+The clusters (corotate.sweep.local_cluster, the LocalCluster run_sweep starts by default) are
+started before the clock starts: a LocalCluster takes a few seconds to start, once per sweep.
+Each sweep writes into a fresh temporary folder.
 """
 
 import argparse
@@ -20,31 +20,32 @@ from pathlib import Path
 import numpy as np
 
 import corotate as cr
+from corotate.sweep import local_cluster
 from corotate.sweep.scenes import cantilever
 
 
-def timed_sweep(workers: int, scene, table, out: Path) -> tuple[float, float]:
-    """(wall seconds of the sweep, mean seconds of one run inside its worker)."""
-    from distributed import Client, LocalCluster
-
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
-        with Client(cluster, set_as_default=False) as client:
-            client.wait_for_workers(workers)
-            start = time.perf_counter()
-            report = cr.run_sweep(scene, table, out, scheduler=client, runs_per_task=1, progress=False)
-            seconds = time.perf_counter() - start
+def timed_sweep(workers: int, scene, table, out: Path) -> tuple[float, float, float]:
+    """(wall seconds of the sweep, mean seconds of one run inside its worker, CPU seconds of
+    this process: the scheduler, the nannies and the client, which share the cores with the
+    workers)."""
+    client, cluster = local_cluster(workers)  # as run_sweep starts it
+    with cluster, client:
+        client.wait_for_workers(workers)
+        start, cpu = time.perf_counter(), time.process_time()
+        report = cr.run_sweep(scene, table, out, scheduler=client, runs_per_task=1, progress=False)
+        seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     if report.done != len(table):
         raise RuntimeError(f"{len(table) - report.done} runs did not finish: {report}")
-    return seconds, float(cr.open_sweep(out).seconds.mean())
+    return seconds, float(cr.open_sweep(out).seconds.mean()), cpu
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--runs", type=int, default=48, help="runs in the sweep (default 48)")
+    parser.add_argument("--runs", type=int, default=32, help="runs in the sweep (default 32)")
     parser.add_argument(
         "--cells", type=int, nargs=3, default=(20, 4, 4), help="beam cuboids, 6 tets each (default 20 4 4: 1,920 tets)"
     )
-    parser.add_argument("--frames", type=int, default=20, help="frames of 5 steps per run (default 20)")
+    parser.add_argument("--frames", type=int, default=150, help="frames of 5 steps per run (default 150)")
     args = parser.parse_args()
     scene = functools.partial(
         cantilever, length=1.0, width=0.2, cells=tuple(args.cells), frames=args.frames, steps_per_frame=5
@@ -61,10 +62,10 @@ def main() -> int:
     )
     print(f"  load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     with tempfile.TemporaryDirectory() as folder:
-        one, run_one = timed_sweep(1, scene, table, Path(folder) / "one.zarr")
-        print(f"  1 worker:  {one:.2f} s (a run took {run_one:.3f} s in its worker)")
-        two, run_two = timed_sweep(2, scene, table, Path(folder) / "two.zarr")
-        print(f"  2 workers: {two:.2f} s (a run took {run_two:.3f} s in its worker)")
+        one, run_one, cpu_one = timed_sweep(1, scene, table, Path(folder) / "one.zarr")
+        print(f"  1 worker:  {one:.2f} s (a run took {run_one:.3f} s in its worker; this process: {cpu_one:.2f} s CPU)")
+        two, run_two, cpu_two = timed_sweep(2, scene, table, Path(folder) / "two.zarr")
+        print(f"  2 workers: {two:.2f} s (a run took {run_two:.3f} s in its worker; this process: {cpu_two:.2f} s CPU)")
     print(f"  speed-up: {one / two:.2f}x")
     if run_two > 1.2 * run_one:
         print("  (each run was slower with two workers: other processes were using the cores)")

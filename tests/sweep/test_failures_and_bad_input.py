@@ -134,16 +134,16 @@ def crashing_scene(E, nu, tip_load):
 def test_a_run_that_kills_every_worker_it_is_tried_on_is_recorded_as_failed(tmp_path):
     """With Dask's allowed-failures at 0, one death is enough: the task of runs 2 and 3 (two
     runs a task) dies, its runs are tried one by one, run 3 alone completes and run 2's death
-    is recorded as its failure. (worker-saturation 1, as run_sweep's own LocalCluster has it:
+    is recorded as its failure. (run_sweep's LocalCluster sends a worker one task at a time:
     no task waits on a worker behind another, to die with it.)"""
     import dask
-    import distributed
+
+    from corotate.sweep import local_cluster
 
     table = cr.ParameterTable({"E": [3e5, 4e5, 666.0, 5e5], "nu": [0.3] * 4, "tip_load": [1.0] * 4})
-    settings = {"distributed.scheduler.allowed-failures": 0, "distributed.scheduler.worker-saturation": 1.0}
-    with dask.config.set(settings):
-        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
-    with cluster, distributed.Client(cluster, set_as_default=False) as client:
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        client, cluster = local_cluster(workers=2)
+    with cluster, client:
         report = cr.run_sweep(
             crashing_scene, table, tmp_path / "out.zarr", scheduler=client, runs_per_task=2, progress=False
         )

@@ -13,6 +13,7 @@ opens (the extra [sweep]). docs/guide/sweeps.md is the guide.
 
 from __future__ import annotations
 
+from .cluster import local_cluster
 from .dataset import open_sweep
 from .progress import ProgressBar
 from .runner import SweepReport, run_sweep
@@ -28,5 +29,6 @@ __all__ = [
     "SweepStore",
     "SweepSpec",
     "load_spec",
+    "local_cluster",
     "ProgressBar",
 ]

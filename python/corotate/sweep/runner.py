@@ -4,6 +4,7 @@ is finished (store.py says how, so that nothing is lost and nothing is there twi
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
 import sys
@@ -14,13 +15,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
+from .cluster import close, connect
 from .identity import scene_name, sweep_fingerprint
 from .outputs import scene_outputs
 from .progress import ProgressBar
 from .store import SweepStore
 from .table import ParameterTable
-
-EXTRA_HINT = "pip install 'corotate-fem[sweep]'"
 
 
 @dataclass
@@ -119,7 +119,7 @@ def run_sweep(
     fingerprint, name = sweep_fingerprint(scene, table), scene_name(scene)
     store = SweepStore(out)
     store.check_compatible(fingerprint, name)
-    own_client, cluster = _connect(scheduler, workers, threads_per_run, connect_timeout)
+    own_client, cluster = connect(scheduler, workers, threads_per_run, connect_timeout)
     client = own_client or scheduler
     try:
         with store.locked():
@@ -145,10 +145,11 @@ def run_sweep(
         if cluster is not None:  # our workers die mid-run: no log lines from them about it
             from .worker_plugin import mute_logs
 
-            own_client.run(mute_logs)
+            with contextlib.suppress(Exception):  # only cosmetic: never in the way of stopping
+                own_client.run(mute_logs)
         raise
     finally:
-        _close(own_client, cluster)
+        close(own_client, cluster)
     now = store.finished()
     statuses = list(now.values())
     return SweepReport(
@@ -302,48 +303,3 @@ def _unpickled(blob: bytes) -> Callable[..., Any]:
 
     scene: Callable[..., Any] = cloudpickle.loads(blob)
     return scene
-
-
-def _connect(scheduler: Any, workers: int | None, threads: int, timeout: float) -> tuple[Any, Any]:
-    """(client, the LocalCluster this call started or None); the client is None when the caller
-    gave one (and so closes it)."""
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError as err:
-        raise ImportError(f"the sweep runs on dask.distributed: {EXTRA_HINT}") from err
-    if isinstance(scheduler, Client):
-        return None, None
-    if scheduler is None:
-        import dask
-
-        from .worker_plugin import IgnoreCtrlC
-
-        n = workers or max(1, (os.cpu_count() or 1) // threads)
-        # worker-saturation 1: a worker holds only the task it runs, so a run that crashes its
-        # worker takes no queued task of another run down with it (each death counts against
-        # every task on the worker, and allowed-failures of them fail the task)
-        with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
-        client = Client(cluster, set_as_default=False)
-        # register_plugin since distributed 2023.9.2; register_worker_plugin before
-        register = getattr(client, "register_plugin", None) or getattr(client, "register_worker_plugin")  # noqa: B009
-        register(IgnoreCtrlC())
-        return client, cluster
-    target = scheduler if isinstance(scheduler, str) else getattr(scheduler, "scheduler_address", None)
-    if target is None:
-        raise TypeError(
-            "scheduler must be None, an address such as 'tcp://host:8786', a dask Cluster or a Client, "
-            f"got {type(scheduler).__name__}"
-        )
-    try:
-        return Client(target, timeout=timeout, set_as_default=False), None
-    except (OSError, TimeoutError) as err:
-        raise RuntimeError(f"cannot reach the Dask scheduler at {target} (waited {timeout} s): {err}") from err
-
-
-def _close(client: Any, cluster: Any) -> None:
-    """Close what _connect opened (a Client given by the caller stays open)."""
-    if client is not None:
-        client.close(timeout=10)
-    if cluster is not None:
-        cluster.close(timeout=20)
