@@ -36,3 +36,21 @@ def test_a_log_gets_a_line_per_tenth_and_the_last():
 def test_durations():
     assert format_duration(3725.4) == "1:02:05"
     assert format_duration(float("nan")) == "?"
+
+
+class Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_a_terminal_gets_one_line_redrawn_in_place(monkeypatch):
+    clock = [0.0]
+    monkeypatch.setattr("corotate.sweep.progress.time.monotonic", lambda: clock[0])
+    screen = Terminal()
+    bar = ProgressBar(3, stream=screen)
+    for _ in range(3):
+        clock[0] += 1.0  # slower than the redraw limit of ten a second: each run redrawn
+        bar.update("done")
+    bar.close()
+    assert screen.getvalue().count("\r") == 4 and screen.getvalue().endswith("3/3 runs, 0 failed, 0:00:00 left\n")
+    assert "\n" not in screen.getvalue()[:-1]
