@@ -29,6 +29,7 @@ from .output import TimeSeriesWriter
 from .simulation import Simulation
 from .solvers import PCG, Direct
 from .surfaces import boundary_surface, loop_subdivide, sphere_surface, split_at_centroids
+from .sweep import ParameterTable, open_sweep, run_sweep  # imports no Dask until a sweep runs
 from .threads import available_threads, have_openmp, set_threads, threads
 
 __all__ = [
@@ -62,5 +63,8 @@ __all__ = [
     "threads",
     "available_threads",
     "have_openmp",
+    "ParameterTable",
+    "run_sweep",
+    "open_sweep",
 ]
 __version__: str = _core.__version__  # from the VERSION file, through CMake

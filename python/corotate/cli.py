@@ -1,5 +1,5 @@
 """Command line: ``corotate demo`` (the main job), ``corotate view`` (live, with the mouse), ``corotate scenes``
-(explicit mass-spring and StVK scenes) and ``corotate bench``."""
+(explicit mass-spring and StVK scenes), ``corotate bench`` and ``corotate sweep`` (parameter sweeps on Dask)."""
 
 from __future__ import annotations
 
@@ -281,6 +281,10 @@ def _add_other_commands(parser: argparse.ArgumentParser, sub: Any) -> argparse.A
     )
     bench.add_argument("bench_args", nargs=argparse.REMAINDER, help="options for corotate_bench")
     bench.set_defaults(func=_bench)
+
+    from .sweep.cli import add_sweep_command
+
+    add_sweep_command(sub)
     return parser
 
 
