@@ -1,10 +1,10 @@
 // The standard benchmark scenario (bench/README.md): a 5 x 1 x 1 m beam along x, clamped at
-// x = 0, sagging under gravity from rest (tets or Hex8); and a TetGen reader for user meshes.
+// x = 0, sagging under gravity from rest (of any solid element); and user meshes handed over
+// as text by `corotate bench --mesh FILE`.
 #pragma once
 
 #include <array>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -71,51 +71,24 @@ inline void write_mesh(const std::string& path, const TetMesh& mesh) {
   out << mesh.cell_type << '\n';
 }
 
-// TetGen .node/.ele pair (path of either file; 0- or 1-based as the .node file says).
-inline TetMesh read_tetgen(const std::string& path) {
-  const std::string stem = path.substr(0, path.find_last_of('.'));
-  auto open = [](const std::string& p) {
-    std::ifstream in(p);
-    if (!in) throw InvalidInput("cannot open mesh file " + p);
-    return in;
-  };
-  auto next_line = [](std::ifstream& in) {
-    std::string line;
-    while (std::getline(in, line)) {
-      const auto hash = line.find('#');
-      if (hash != std::string::npos) line.resize(hash);
-      if (line.find_first_not_of(" \t\r") != std::string::npos) return std::istringstream(line);
-    }
-    throw InvalidInput("mesh file ended early");
-  };
-  TetMesh m;
-  m.cell_type = "tetra";
-  auto node_in = open(stem + ".node");
-  int n, dim, attrs, marker;
-  next_line(node_in) >> n >> dim >> attrs >> marker;
-  m.points.resize(3, n);
-  int base = 0;
-  for (int i = 0; i < n; ++i) {
-    int idx;
-    auto line = next_line(node_in);
-    line >> idx >> m.points(0, i) >> m.points(1, i) >> m.points(2, i);
-    if (i == 0) base = idx;
-  }
-  auto ele_in = open(stem + ".ele");
-  int ne, per;
-  next_line(ele_in) >> ne >> per;
-  if (per != 4) throw InvalidInput("only 4-node tets are supported in .ele files");
-  m.cells.resize(ne, 4);
-  for (int e = 0; e < ne; ++e) {
-    int idx;
-    auto line = next_line(ele_in);
-    line >> idx;
-    for (int a = 0; a < 4; ++a) {
-      line >> m.cells(e, a);
-      m.cells(e, a) -= base;
-    }
-  }
-  return m;
+// A mesh in write_mesh's text form, as `corotate bench --mesh FILE` hands it over after
+// reading FILE (any format) with corotate.read_mesh: the benchmark parses no mesh format of
+// its own. The node and cell counts are checked against the header.
+inline TetMesh read_mesh(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InvalidInput("cannot open mesh file " + path);
+  Index n = 0, m = 0, k = 0;
+  TetMesh mesh;
+  if (!(in >> n >> m >> k) || n < 1 || m < 1 || k < 1) throw InvalidInput(path + ": not a mesh written by write_mesh");
+  mesh.points.resize(3, n);
+  mesh.cells.resize(m, k);
+  for (Index i = 0; i < n; ++i) in >> mesh.points(0, i) >> mesh.points(1, i) >> mesh.points(2, i);
+  for (Index e = 0; e < m; ++e)
+    for (Index a = 0; a < k; ++a) in >> mesh.cells(e, a);
+  if (!(in >> mesh.cell_type))
+    throw InvalidInput(path + " ended early (expected " + std::to_string(n) + " nodes and " + std::to_string(m) +
+                       " cells)");
+  return mesh;
 }
 
 }  // namespace corotate::bench

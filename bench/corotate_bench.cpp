@@ -180,7 +180,8 @@ void usage() {
       "Times the co-rotational implicit step on the standard beam (bench/README.md) or a mesh.\n"
       "  --sizes 1,2,4,8     refinement factors of the 10x2x2-cube beam (1 -> 240 tets, 2 -> 1920,\n"
       "                      4 -> 15360, 8 -> 122880); default 1,2,4,8\n"
-      "  --mesh FILE         a TetGen .node/.ele mesh instead of the beam (fixed: nodes at min x)\n"
+      "  --mesh FILE         a mesh instead of the beam (fixed: nodes at min x): through `corotate bench`,\n"
+      "                      any file corotate.read_mesh reads; run directly, a --write-mesh text file\n"
       "  --configs LIST      solver configurations among paper, paper_warm, block_jacobi, default,\n"
       "                      reference_factor, direct, reference, custom; default paper,default\n"
       "  --steps N           steps per run (default 100)\n"
@@ -275,8 +276,7 @@ int main(int argc, char** argv) {
     }
     std::vector<std::pair<std::string, bench::TetMesh>> meshes;
     if (!opt.mesh_path.empty())  // label: the file name without folders
-      meshes.emplace_back(opt.mesh_path.substr(opt.mesh_path.find_last_of("/\\") + 1),
-                          bench::read_tetgen(opt.mesh_path));
+      meshes.emplace_back(opt.mesh_path.substr(opt.mesh_path.find_last_of("/\\") + 1), bench::read_mesh(opt.mesh_path));
     else
       for (int s : opt.sizes)
         meshes.emplace_back(

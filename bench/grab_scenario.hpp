@@ -1,9 +1,9 @@
 // corotate_bench --scenario grab: what a grab and a release cost in frame time (issue 9).
 //
 // Body: the standard beam (bench/README.md; clamped at x = 0, gravity, corotate's default
-// PCG, frames of 5 steps of 0.01 s) or a TetGen mesh (--mesh). A user grabs the node at the
-// top of the free end, drags it up by 2 cm per frame for 10 frames and lets go; five such
-// cycles, each after 10 undisturbed frames, following 30 warm-up frames. Three ways to grab:
+// PCG, frames of 5 steps of 0.01 s) or a user mesh (--mesh, see beam_scenario.hpp's read_mesh). A user grabs the node
+// at the top of the free end, drags it up by 2 cm per frame for 10 frames and lets go; five such cycles, each after 10
+// undisturbed frames, following 30 warm-up frames. Three ways to grab:
 //   attach        Simulation::attach a spring of stiffness k at the node's position, move its
 //                 target every frame, detach (fem/attachments.hpp);
 //   fix           add the node to the fixed set and prescribe its velocity; release by
@@ -130,7 +130,7 @@ inline int grab_main(int argc, char** argv) {
     else if (arg == "--cycles" && a + 1 < argc) cycles = std::stoi(argv[++a]);
     else if (arg == "--help" || arg == "-h") {
       std::puts(
-          "usage: corotate_bench --scenario grab [--sizes 2,4 (beam refinements)] [--mesh FILE (TetGen)]\n"
+          "usage: corotate_bench --scenario grab [--sizes 2,4 (beam refinements)] [--mesh FILE]\n"
           "                      [--stiffness K (N/m, default 1e6)] [--cycles N (default 5)]\n"
           "Frame times (5 steps of 0.01 s, default PCG) right after grabbing and releasing the top node\n"
           "of the free end: by an attachment spring, by fixing it, and by fixing with a solver rebuild.");
@@ -139,7 +139,7 @@ inline int grab_main(int argc, char** argv) {
   }
   std::vector<std::pair<std::string, TetMesh>> meshes;
   if (!mesh_path.empty())
-    meshes.emplace_back(mesh_path.substr(mesh_path.find_last_of("/\\") + 1), read_tetgen(mesh_path));
+    meshes.emplace_back(mesh_path.substr(mesh_path.find_last_of("/\\") + 1), read_mesh(mesh_path));
   else
     for (int s : sizes)
       meshes.emplace_back("beam " + std::to_string(10 * s) + "x" + std::to_string(2 * s) + "x" + std::to_string(2 * s),

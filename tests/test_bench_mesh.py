@@ -2,6 +2,7 @@
 (both come from the core's one structured generator, meshes/structured_box.hpp)."""
 
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -33,3 +34,28 @@ def test_the_benchmark_names_an_unknown_element():
     run = subprocess.run([str(BENCH), "--element", "tet5"], capture_output=True, text=True)
     assert run.returncode == 2
     assert "unknown element 'tet5'; choose one of 'tet4'" in run.stderr
+
+
+@pytest.mark.skipif(not BENCH.exists(), reason="the benchmark executable is installed by pip install . (not -e)")
+def test_the_benchmark_takes_any_mesh_read_mesh_reads(tmp_path):
+    # The benchmark parses no mesh format of its own: `corotate bench --mesh` reads the file.
+    source = tmp_path / "column.vtu"
+    cr.write_mesh(source, cr.box((1.0, 1.0, 2.0), (1, 1, 2), "tet10"))
+    out = tmp_path / "handed_over.txt"
+    run = subprocess.run(
+        [sys.executable, "-m", "corotate", "bench", "--", "--mesh", str(source), "--write-mesh", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    lines = out.read_text().split("\n")
+    n, m, k = (int(v) for v in lines[0].split())
+    mesh = cr.read_mesh(source)
+    np.testing.assert_array_equal(np.loadtxt(lines[1 : 1 + n]), mesh.points)
+    np.testing.assert_array_equal(np.loadtxt(lines[1 + n : 1 + n + m], dtype=np.int64).reshape(m, k), mesh.cells)
+    missing = subprocess.run(
+        [sys.executable, "-m", "corotate", "bench", "--", "--mesh", str(tmp_path / "no.vtu")],
+        capture_output=True,
+        text=True,
+    )
+    assert missing.returncode == 2 and "no.vtu" in missing.stderr

@@ -7,6 +7,7 @@ import argparse
 import os
 import subprocess
 import sys
+import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -14,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from . import __version__
-from .mesh import VOLUME_CELL_TYPES
+from .mesh import VOLUME_CELL_TYPES, Mesh, read_mesh
 
 
 def _demo_simulation(args: argparse.Namespace) -> tuple[Any, Any, np.ndarray, np.ndarray, int]:
@@ -148,7 +149,31 @@ def _bench(args: argparse.Namespace) -> int:
     if not exe.exists():
         print(f"corotate bench: the benchmark executable is not installed at {exe}", file=sys.stderr)
         return 2
-    return subprocess.call([str(exe), *args.bench_args])
+    bench_args = list(args.bench_args)
+    with tempfile.TemporaryDirectory() as folder:
+        # The benchmark reads no mesh format itself: --mesh FILE is read here, by read_mesh
+        # (any format it reads, checked), and handed over as text under the file's own stem.
+        if "--mesh" in bench_args[:-1]:
+            i = bench_args.index("--mesh") + 1
+            source = Path(bench_args[i])
+            try:
+                mesh = read_mesh(source)
+            except (OSError, ValueError) as e:
+                print(f"corotate bench: {e}", file=sys.stderr)
+                return 2
+            bench_args[i] = str(Path(folder) / source.name.split(".")[0])
+            _write_bench_mesh(mesh, bench_args[i])
+        return subprocess.call([str(exe), *bench_args])
+
+
+def _write_bench_mesh(mesh: Mesh, path: str) -> None:
+    """The mesh in the benchmark's text form: "n m k", n rows x y z, m rows of k node
+    indices, the cell type (bench/beam_scenario.hpp, read_mesh)."""
+    with open(path, "w") as out:
+        out.write(f"{mesh.n_nodes} {mesh.n_cells} {mesh.cells.shape[1]}\n")
+        np.savetxt(out, mesh.points, fmt="%.17g")
+        np.savetxt(out, mesh.cells, fmt="%d")
+        out.write(f"{mesh.cell_type}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:

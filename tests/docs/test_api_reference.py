@@ -1,6 +1,6 @@
 """Every public name of corotate is in the API reference (docs/api/*.md): the names in
-corotate.__all__ and in the __all__ of its public subpackages, corotate.modal and
-corotate.view. A name counts when an autosummary entry of the reference resolves to the same
+corotate.__all__ and in the __all__ of its public subpackages, corotate.modal,
+corotate.sweep and corotate.view. A name counts when an autosummary entry of the reference resolves to the same
 object (so corotate.Mesh documents corotate.mesh.Mesh too)."""
 
 import importlib
@@ -12,7 +12,7 @@ import pytest
 import corotate
 
 API = Path(__file__).resolve().parents[2] / "docs" / "api"
-PUBLIC = ["corotate", "corotate.modal", "corotate.view"]
+PUBLIC = ["corotate", "corotate.modal", "corotate.sweep", "corotate.view"]
 
 
 def documented_names() -> list[str]:

@@ -48,6 +48,24 @@ std::vector<int> mirror_map() {
   return m;
 }
 
+// shape() and shape_gradient() of an element E whose values and gradients share their factors
+// and are computed together by E::evaluate(xi, values*, gradients*) (Tet10, Hex20).
+template <class E, int N>
+struct ShapeFromEvaluate {
+  using ShapeValues = Eigen::Matrix<double, N, 1>;
+  using ShapeGradient = Eigen::Matrix<double, N, 3>;  // row a = dN_a/dxi
+  static ShapeValues shape(const Vec3& xi) {
+    ShapeValues n;
+    E::evaluate(xi, &n, nullptr);
+    return n;
+  }
+  static ShapeGradient shape_gradient(const Vec3& xi) {
+    ShapeGradient g;
+    E::evaluate(xi, nullptr, &g);
+    return g;
+  }
+};
+
 // Runtime description of one cell type: what Python's Mesh, the generators, the embedding
 // and the tests read (bound as corotate._core.cell_types()).
 struct CellTypeFacts {

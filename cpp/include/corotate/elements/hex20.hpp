@@ -7,7 +7,7 @@
 
 namespace corotate {
 
-struct Hex20 {
+struct Hex20 : ShapeFromEvaluate<Hex20, 20> {
   static constexpr const char* name = "hexahedron20";
   static constexpr const char* generator_name = "hex20";
   static constexpr ReferenceDomain domain = ReferenceDomain::cube;
@@ -19,8 +19,6 @@ struct Hex20 {
   static constexpr auto edges = Hex8::edges;  // node 8 + i sits on edge i
   static constexpr auto faces = Hex8::faces;
   static constexpr auto corner_mirror = Hex8::corner_mirror;
-  using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
-  using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;
 
   static Vec3 node(int a) {
     static const double s[20][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1},
@@ -58,16 +56,6 @@ struct Hex20 {
       if (n) (*n)(a) = value;
       if (g) g->row(a) = grad.transpose();
     }
-  }
-  static ShapeValues shape(const Vec3& xi) {
-    ShapeValues n;
-    evaluate(xi, &n, nullptr);
-    return n;
-  }
-  static ShapeGradient shape_gradient(const Vec3& xi) {
-    ShapeGradient g;
-    evaluate(xi, nullptr, &g);
-    return g;
   }
   static Vec3 centre() { return Vec3::Zero(); }
   static const QuadratureRule& stiffness_rule() {

@@ -12,7 +12,7 @@
 
 namespace corotate {
 
-struct Tet10 {
+struct Tet10 : ShapeFromEvaluate<Tet10, 10> {
   static constexpr const char* name = "tetra10";
   static constexpr const char* generator_name = "tet10";
   static constexpr ReferenceDomain domain = ReferenceDomain::simplex;
@@ -24,8 +24,6 @@ struct Tet10 {
   static constexpr auto edges = Tet4::edges;      // node 4 + i sits on edge i
   static constexpr auto faces = Tet4::faces;
   static constexpr auto corner_mirror = Tet4::corner_mirror;
-  using ShapeValues = Eigen::Matrix<double, num_nodes, 1>;
-  using ShapeGradient = Eigen::Matrix<double, num_nodes, 3>;  // row a = dN_a/dxi
 
   static Vec3 node(int a) {
     if (a < num_corners) return Tet4::node(a);
@@ -47,16 +45,6 @@ struct Tet10 {
       if (n) (*n)(num_corners + i) = 4 * L(a) * L(b);
       if (g) g->row(num_corners + i) = 4 * (L(b) * dL.row(a) + L(a) * dL.row(b));
     }
-  }
-  static ShapeValues shape(const Vec3& xi) {
-    ShapeValues n;
-    evaluate(xi, &n, nullptr);
-    return n;
-  }
-  static ShapeGradient shape_gradient(const Vec3& xi) {
-    ShapeGradient g;
-    evaluate(xi, nullptr, &g);
-    return g;
   }
   static Vec3 centre() { return Vec3::Constant(0.25); }
   static const QuadratureRule& stiffness_rule() {
