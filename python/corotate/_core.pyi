@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'least_squares_rotation', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -79,13 +79,33 @@ class Material:
     def lame_mu(self) -> float:
         ...
     @property
+    def law(self) -> str:
+        ...
+    @property
+    def parameters(self) -> list[float]:
+        ...
+    @property
     def poisson_ratio(self) -> float:
         ...
     @property
     def youngs_modulus(self) -> float:
         ...
+class RegionMaterials:
+    @typing.overload
+    def __init__(self, materials: collections.abc.Sequence[Material], cell_regions: typing.Annotated[numpy.typing.ArrayLike, numpy.int64]) -> None:
+        """
+        Materials by region id (0, 1, ...) and the (m,) region id of each cell.
+        """
+    @typing.overload
+    def __init__(self, material: Material) -> None:
+        """
+        One material for every cell.
+        """
+    @property
+    def materials(self) -> list[Material]:
+        ...
 class ForceModel:
-    def __init__(self, model: str, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: Material, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0, project_psd: bool = False) -> None:
+    def __init__(self, model: str, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: RegionMaterials, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0, project_psd: bool = False) -> None:
         """
         Force model by name (see model_names) on one cell type: thickness of triangle sheets [m], project_psd
         (clamp each element stiffness to positive semi-definite).
@@ -126,9 +146,9 @@ class BlockSparseMatrix:
     def to_csr(self) -> tuple:
         ...
 class PCGSettings:
-    def __init__(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 20, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.01, warm_start: bool = True, preconditioner: str = 'auto') -> None:
+    def __init__(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 20, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.0, warm_start: bool = True, preconditioner: str = 'auto') -> None:
         """
-        Settings of the capped PCG solver; the defaults are corotate's default solver.
+        Settings of the capped PCG solver; the defaults are corotate's default solver (tolerance 0: the preconditioner's default, 2e-2 for two_level and 1e-2 for the others).
         """
     @property
     def max_iterations(self) -> int:
@@ -428,7 +448,7 @@ class Simulation:
     def velocities(self) -> numpy.ndarray:
         ...
 class HapticFeedback:
-    def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: Material, tool: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], method: str, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
+    def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: RegionMaterials, tool: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], method: str, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
         """
         Force feedback at the tool nodes from the elements that touch them (see feedback/haptic_feedback.hpp).
         """
@@ -615,9 +635,18 @@ def integrator_names() -> list[str]:
     """
     Every integrator name.
     """
+def law_parameters() -> dict:
+    """
+    {law: [(parameter, meaning), ...]} for every law with parameters of its own, in the order it declares them.
+    """
 def least_squares_rotation(rest: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], moved: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
     """
     The proper rotation R minimising sum |R (p_i - p_mean) - (x_i - x_mean)|^2 (Kabsch).
+    """
+def material_of_law(law: str, parameters: collections.abc.Mapping[str, typing.SupportsFloat | typing.SupportsIndex], density: typing.SupportsFloat | typing.SupportsIndex) -> Material:
+    """
+    A Material given in a law's own parameters ({name: value}); its youngs_modulus and poisson_ratio are the
+    law's small-strain moduli. ValueError naming an unknown, missing or out-of-range parameter.
     """
 def model_names() -> list[str]:
     """

@@ -1,9 +1,12 @@
-// Material::validate: parameters outside the physical range are InvalidInput.
+// Material::validate: parameters outside the physical range are InvalidInput; RegionMaterials
+// names a cell whose region has no material.
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
 #include "corotate/material.hpp"
+#include "corotate/region_materials.hpp"
 #include "test_driver.hpp"
 
 using namespace corotate;
@@ -49,4 +52,26 @@ TEST(valid_parameters_pass_and_give_the_lame_constants) {
   Material{1e6, -0.99, 1.0}.validate();
   CHECK_NEAR(m.lame_mu(), 1e6, 1e-9);               // E / (2 (1 + nu))
   CHECK_NEAR(m.lame_lambda(), 1.5e6, 1e-9);          // E nu / ((1 + nu) (1 - 2 nu))
+}
+
+namespace {
+bool message_has(const std::function<void()>& f, const std::string& text) {
+  try {
+    f();
+  } catch (const InvalidInput& e) {
+    return std::string(e.what()).find(text) != std::string::npos;
+  }
+  return false;
+}
+}  // namespace
+
+TEST(region_materials_name_a_cell_without_a_material) {
+  const Material a{1e6, 0.3, 1000.0}, b{2e6, 0.2, 500.0};
+  RegionMaterials({a, b}, {0, 1, 1}).validate(3);
+  RegionMaterials(a).validate(3);
+  CHECK(message_has([&] { RegionMaterials({a, b}, {0, 2, 1}).validate(3); }, "cell 1 has region id 2"));
+  CHECK(message_has([&] { RegionMaterials({a, b}, {0, -1, 1}).validate(3); }, "cell 1 has region id -1"));
+  CHECK(message_has([&] { RegionMaterials({a, b}, {0, 1}).validate(3); }, "one region id per cell"));
+  CHECK(message_has([&] { RegionMaterials({a, Material{1e6, 0.5, 1.0}}, {0, 1, 1}).validate(3); }, "region 1"));
+  CHECK(RegionMaterials({a, b}, {1, 0, 1}).of_cells({2, 1}).cell_regions == std::vector<int>({1, 0}));
 }

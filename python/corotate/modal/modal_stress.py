@@ -1,8 +1,8 @@
 """Modal stresses: the linear (small-strain) stress of each basis vector at the element
 centres, computed once; the stress of a modal state is then sum_i q_i sigma_i.
 
-sigma = lambda tr(eps) I + 2 mu eps with eps = sym(grad u), grad u = sum_a u_a (x) dN_a/dX at
-the element centre (the core's element centre gradients, for tetra, hexahedron and
+sigma = lambda tr(eps) I + 2 mu eps (each cell's material) with eps = sym(grad u),
+grad u = sum_a u_a (x) dN_a/dX at the element centre (the core's element centre gradients, for tetra, hexahedron and
 hexahedron20 cells).
 """
 
@@ -28,7 +28,7 @@ def centre_gradients(body: Body) -> np.ndarray:
     mesh = body.mesh
     if mesh.cell_type not in ("tetra", "hexahedron", "hexahedron20"):
         raise ValueError(f"modal stresses need solid cells (tetra, hexahedron, hexahedron20), not {mesh.cell_type!r}")
-    material = body.material._core()
+    material = next(iter(body.materials.values()))._core()  # (the gradients do not depend on it)
     return np.array(
         [_core.element_matrices(mesh.cell_type, mesh.points[cell], material)["centre_gradient"] for cell in mesh.cells]
     )
@@ -45,9 +45,9 @@ def linear_stress(body: Body, displacement: ArrayLike, gradients: np.ndarray | N
     G = centre_gradients(body) if gradients is None else gradients
     H = np.einsum("eai,eaj->eij", u[body.mesh.cells], G)  # grad u per element
     eps = 0.5 * (H + H.transpose(0, 2, 1))
-    lam, mu = body.material.lame
+    lam, mu = body.cell_lame()  # each cell's material
     trace = np.trace(eps, axis1=1, axis2=2)
-    return lam * trace[:, None, None] * np.eye(3) + 2 * mu * eps
+    return (lam * trace)[:, None, None] * np.eye(3) + 2 * mu[:, None, None] * eps
 
 
 def modal_stresses(body: Body, basis: ModalBasis) -> np.ndarray:

@@ -15,9 +15,10 @@ namespace corotate {
 // hyperelastic law: "stvk" (St. Venant-Kirchhoff), "neohookean" (stable Neo-Hookean),
 // "fixed_corotated" (Stomakhin's fixed co-rotated law), "neohookean_log"; cell_type: "tetra", "hexahedron",
 // "hexahedron20" (every model) or "triangle" (membrane sheets, "stvk" only) (VTK/meshio names). rest: 3 x n; cells: m x
-// k node indices. Throws InvalidInput naming what is wrong.
+// k node indices; materials: a Material, or one per region with each cell's region
+// (region_materials.hpp). Throws InvalidInput naming what is wrong.
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
-                                       const Connectivity& cells, const Material& material,
+                                       const Connectivity& cells, const RegionMaterials& materials,
                                        const ModelOptions& options = ModelOptions());
 
 std::vector<std::string> model_names();      // every model name make_model accepts

@@ -47,13 +47,13 @@ std::vector<std::string> names_of(TypeList<T...>) {
 // The builders of each model family (null when the family has no such cell type or law);
 // make_model in model_factory.hpp is the public entry point.
 std::unique_ptr<ForceModel> make_linear_model(const std::string& cell_type, const Nodes& rest,
-                                              const Connectivity& cells, const Material& material,
+                                              const Connectivity& cells, const RegionMaterials& materials,
                                               const ModelOptions& options);
 std::unique_ptr<ForceModel> make_corotational_model(const std::string& cell_type, const Nodes& rest,
-                                                    const Connectivity& cells, const Material& material,
+                                                    const Connectivity& cells, const RegionMaterials& materials,
                                                     const ModelOptions& options);
 std::unique_ptr<ForceModel> make_hyperelastic_model(const std::string& law, const std::string& cell_type,
                                                     const Nodes& rest, const Connectivity& cells,
-                                                    const Material& material, const ModelOptions& options);
+                                                    const RegionMaterials& materials, const ModelOptions& options);
 
 }  // namespace corotate
