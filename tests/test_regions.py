@@ -23,7 +23,7 @@ def two_material_bar(element="hex8", cells=(10, 2, 2)):
     return mesh, (centres[:, 0] > L1).astype(np.int64)
 
 
-@pytest.mark.parametrize("model", ["linear", "corotational", "stvk"])
+@pytest.mark.parametrize("model", ["linear", "corotational", "stvk", "mooney_rivlin"])
 def test_two_material_bar_in_tension_is_two_springs_in_series(model):
     """Left face clamped (nu = 0: nothing to restrain laterally), a force F spread uniformly
     over the right face: u = F L1 / (E1 A) + F L2 / (E2 A), exact for linear FEM (the

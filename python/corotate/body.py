@@ -47,8 +47,10 @@ class Body(SettableOnly):
               "stvk" (St. Venant-Kirchhoff, W = mu E:E + lambda/2 tr(E)^2, E the Green
               strain), "neohookean" (stable Neo-Hookean of Smith et al. 2018, defined and
               finite for inverted elements), "fixed_corotated" (fixed co-rotated, Stomakhin
-              et al. 2012) or "neohookean_log" (the classic compressible Neo-Hookean, undefined
-              for inverted elements). All agree at small strain (same stiffness at rest).
+              et al. 2012), "neohookean_log" (the classic compressible Neo-Hookean, undefined
+              for inverted elements) or "mooney_rivlin" (C10, C01 and a bulk modulus, in
+              isochoric invariants: cr.Material(law="mooney_rivlin", C10=..., C01=..., bulk=...)).
+              All agree at small strain (same stiffness at rest).
     thickness sheet thickness [m] for triangle meshes (required there; membranes support
               model="stvk" only, with plane-stress Lame parameters). Not for solids.
     project_psd  hyperelastic models: project each element stiffness onto the nearest

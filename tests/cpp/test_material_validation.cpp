@@ -1,5 +1,6 @@
-// Material::validate: parameters outside the physical range are InvalidInput; RegionMaterials
-// names a cell whose region has no material.
+// Material::validate: parameters outside the physical range are InvalidInput; a material in
+// a law's own parameters (material_of_law) checks each as the law declares and carries the
+// law's small-strain moduli; RegionMaterials names a cell whose region has no material.
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -64,6 +65,29 @@ bool message_has(const std::function<void()>& f, const std::string& text) {
   return false;
 }
 }  // namespace
+
+TEST(a_law_material_checks_its_parameters_and_has_the_small_strain_moduli) {
+  const Material m = material_of_law("mooney_rivlin", {{"C01", 0.1e6}, {"bulk", 5e6}, {"C10", 0.3e6}}, 1100.0);
+  CHECK(m.law == "mooney_rivlin");
+  CHECK(m.parameters == std::vector<double>({0.3e6, 0.1e6, 5e6}));  // in the law's order
+  CHECK_NEAR(m.lame_mu(), 2 * (0.3e6 + 0.1e6), 1e-6);                 // mu = 2 (C10 + C01)
+  CHECK_NEAR(m.lame_lambda() + 2 * m.lame_mu() / 3, 5e6, 1e-6);       // bulk = lambda + 2 mu / 3
+  CHECK(m.density == 1100.0);
+  m.validate();
+  auto make = [](std::vector<std::pair<std::string, double>> named) {
+    return [named] { material_of_law("mooney_rivlin", named, 1000.0); };
+  };
+  CHECK(message_has(make({{"C10", -1.0}, {"C01", 0.0}, {"bulk", 1e6}}), "C10"));
+  CHECK(message_has(make({{"C10", 1.0}, {"C01", -1.0}, {"bulk", 1e6}}), "C01"));
+  CHECK(message_has(make({{"C10", 1.0}, {"C01", 0.0}, {"bulk", std::nan("")}}), "bulk"));
+  CHECK(message_has(make({{"C10", 1.0}, {"bulk", 1e6}}), "C01"));                              // missing
+  CHECK(message_has(make({{"C10", 1.0}, {"C01", 0.0}, {"bulk", 1e6}, {"E", 1.0}}), "no parameter 'E'"));
+  CHECK(message_has(make({{"C10", 1.0}, {"C01", 0.0}, {"bulk", 1e9}}), "small-strain"));  // bulk/mu > 1e6
+  CHECK(message_has([] { material_of_law("stvk", {}, 1000.0); }, "no law 'stvk' with parameters"));
+  Material edited = m;
+  edited.youngs_modulus *= 2;  // no longer the law's small-strain modulus
+  CHECK(message_has([&] { edited.validate(); }, "small-strain moduli"));
+}
 
 TEST(region_materials_name_a_cell_without_a_material) {
   const Material a{1e6, 0.3, 1000.0}, b{2e6, 0.2, 500.0};

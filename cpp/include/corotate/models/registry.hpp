@@ -16,6 +16,7 @@
 #include "corotate/fem/element_kernel.hpp"
 #include "corotate/materials/fixed_corotated.hpp"
 #include "corotate/materials/log_neo_hookean.hpp"
+#include "corotate/materials/mooney_rivlin.hpp"
 #include "corotate/materials/stable_neo_hookean.hpp"
 #include "corotate/materials/stvk.hpp"
 #include "corotate/models/force_model.hpp"
@@ -31,7 +32,7 @@ struct Tag {
 
 using SolidElements = TypeList<Tet4, Hex8, Hex20>;
 using MembraneElements = TypeList<Tri3>;
-using HyperelasticLaws = TypeList<StVK, StableNeoHookean, FixedCorotated, LogNeoHookean>;
+using HyperelasticLaws = TypeList<StVK, StableNeoHookean, FixedCorotated, LogNeoHookean, MooneyRivlin>;
 using MembraneLaws = TypeList<StVK>;
 
 // Calls f(Tag<T>{}) for the T of the list whose T::name equals name; false if none does.
