@@ -1,6 +1,6 @@
 """Bodies of several materials (cr.Body(mesh, materials, regions=...)): the two-material bar
 against the series springs, each cell's density in the mass, one region equal to the
-homogeneous body bit for bit, per-cell stresses of the modal tools, the force feedback's
+homogeneous body bit for bit, a modal reduction's static answer and per-cell stresses, the force feedback's
 elements, regions read from mesh files, and the errors for regions without a material."""
 
 import meshio
@@ -36,17 +36,43 @@ def test_two_material_bar_in_tension_is_two_springs_in_series(model):
     right = mesh.nodes_on_plane("x", L1 + L2)
     area = WIDTH**2
     force = (1e-3 if model == "linear" else 1e-6) * SOFT.E * area  # strain: any for linear FEM
-    # Uniform traction on a 2 x 2 grid of bilinear faces: corner 1/16, edge 1/8, centre 1/4.
-    y, z = mesh.points[right, 1], mesh.points[right, 2]
-    weight = np.where(np.isclose(y % WIDTH, 0), 0.5, 1.0) * np.where(np.isclose(z % WIDTH, 0), 0.5, 1.0)
-    sim.external_forces[right, 0] = force * weight / weight.sum()
+    sim.external_forces[:] = tip_load(mesh, force)
     sim.solve_static()
-    u = sim.displacements[right, 0]
-    expected = force * L1 / (SOFT.E * area) + force * L2 / (STIFF.E * area)
     rel = 1e-10 if model == "linear" else 1e-5
-    np.testing.assert_allclose(u, expected, rtol=rel)
+    np.testing.assert_allclose(sim.displacements[right, 0], series_springs(force), rtol=rel)
     interface = mesh.nodes_on_plane("x", L1)
     np.testing.assert_allclose(sim.displacements[interface, 0], force * L1 / (SOFT.E * area), rtol=rel)
+
+
+def tip_load(mesh, force):
+    """(n, 3) nodal forces of a force along x spread uniformly over the right face (a 2 x 2
+    grid of bilinear faces: corner 1/16, edge 1/8, centre 1/4)."""
+    right = mesh.nodes_on_plane("x", L1 + L2)
+    y, z = mesh.points[right, 1], mesh.points[right, 2]
+    weight = np.where(np.isclose(y % WIDTH, 0), 0.5, 1.0) * np.where(np.isclose(z % WIDTH, 0), 0.5, 1.0)
+    f = np.zeros_like(mesh.points)
+    f[right, 0] = force * weight / weight.sum()
+    return f
+
+
+def series_springs(force):
+    area = WIDTH**2
+    return force * L1 / (SOFT.E * area) + force * L2 / (STIFF.E * area)
+
+
+def test_modal_reduction_of_the_two_material_bar_keeps_its_static_answer():
+    """A Craig-Bampton basis with the loaded face as interface holds the exact static
+    response (its constraint modes are the static shapes), so the reduced tip displacement
+    is the series-spring answer."""
+    mesh, regions = two_material_bar()
+    body = cr.Body(mesh, [SOFT, STIFF], model="linear", regions=regions)
+    right = mesh.nodes_on_plane("x", L1 + L2)
+    basis = cr.modal.craig_bampton(body, mesh.nodes_on_plane("x", 0.0), 2, interface_nodes=right)
+    V = basis.vectors
+    force = 1e-3 * SOFT.E * WIDTH**2
+    q = np.linalg.solve(V.T @ (body.stiffness_matrix() @ V), V.T @ tip_load(mesh, force).ravel())
+    u = (V @ q).reshape(-1, 3)
+    np.testing.assert_allclose(u[right, 0], series_springs(force), rtol=1e-9)
 
 
 def test_mass_takes_each_cells_density():
