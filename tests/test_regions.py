@@ -1,7 +1,8 @@
 """Bodies of several materials (cr.Body(mesh, materials, regions=...)): the two-material bar
-against the series springs, each cell's density in the mass, one region equal to the
-homogeneous body bit for bit, a modal reduction's static answer and per-cell stresses, the force feedback's
-elements, regions read from mesh files, and the errors for regions without a material."""
+against the series springs (statics and a modal reduction), each cell's density in the mass,
+one region equal to the homogeneous body bit for bit, per-cell modal stresses, the force
+feedback's elements, regions read from mesh files, and the errors for regions without a
+material."""
 
 import meshio
 import numpy as np

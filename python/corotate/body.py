@@ -134,7 +134,8 @@ class Body(SettableOnly):
 
     @property
     def regions(self) -> np.ndarray | None:
-        """(m,) int64 region id of each cell (a read-only array), None for one material."""
+        """(m,) int64 region id of each cell (a read-only array); None when the body has no
+        regions (one material for every cell)."""
         return self._regions
 
     def _core_materials(self) -> _core.RegionMaterials:
