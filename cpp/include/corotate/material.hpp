@@ -22,8 +22,8 @@ struct Material {
   double youngs_modulus = 1e6;  // E  [Pa], > 0 (small-strain)
   double poisson_ratio = 0.3;   // nu [-], in (-1, 0.5) (small-strain)
   double density = 1000.0;      // rho [kg/m^3], > 0
-  std::string law;               // empty: given by E and nu; else the law whose parameters follow
-  std::vector<double> parameters;  // that law's parameters, in the order it declares them
+  std::string law{};               // empty: given by E and nu; else the law whose parameters follow
+  std::vector<double> parameters{};  // that law's parameters, in the order it declares them
 
   // Largest ratio of the two moduli, lambda / mu (nu -> 0.5) or mu / K (nu -> -1), that
   // validate() accepts. Beyond it the element stiffness mixes entries 1e6 apart: in double
