@@ -15,7 +15,7 @@ void bind_feedback(py::module_& m) {
   m.def("feedback_method_names", &feedback_method_names, "Every feedback method name.");
   py::class_<HapticFeedback>(m, "HapticFeedback")
       .def(py::init([](const std::string& cell_type, const PointsIn& points, const CellsIn& cells,
-                       const Material& material, const std::vector<Index>& tool, const std::string& method,
+                       const RegionMaterials& material, const std::vector<Index>& tool, const std::string& method,
                        double thickness) {
              return std::make_unique<HapticFeedback>(cell_type, nodes_from(points, "points"), cells_from(cells),
                                                      material, tool, feedback_method_from_name(method),

@@ -7,6 +7,7 @@
 
 #include "conversions.hpp"
 #include "corotate/material.hpp"
+#include "corotate/materials/law_parameters.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/models/registry.hpp"
 
@@ -27,11 +28,10 @@ void bind_hyperelastic(py::module_& m) {
   m.def(
       "constitutive_law",
       [](const std::string& law, const Mat3& F, const Material& material) {
-        const double lambda = material.lame_lambda(), mu = material.lame_mu();
         py::tuple result;
         const bool known = visit_by_name(HyperelasticLaws{}, law, [&](auto tag) {
           using L = typename decltype(tag)::type;
-          result = evaluate_law(L{lambda, mu}, F);
+          result = evaluate_law(law_of_material<L>(material), F);
         });
         if (!known) {
           check_renamed_model(law);

@@ -28,6 +28,7 @@ void bind_modal(py::module_& m);       // modal_bindings.cpp
 void bind_embedding(py::module_& m);  // embedding_bindings.cpp
 void bind_cell_types(py::module_& m);  // cell_type_bindings.cpp
 void bind_meshes(py::module_& m);  // meshes_bindings.cpp
+void bind_materials(py::module_& m);  // material_bindings.cpp
 std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const PCGSettings& pcg);  // simulation_bindings.cpp
 
 namespace {
@@ -114,9 +115,12 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("youngs_modulus", &Material::youngs_modulus)
       .def_readonly("poisson_ratio", &Material::poisson_ratio)
       .def_readonly("density", &Material::density)
+      .def_readonly("law", &Material::law)
+      .def_readonly("parameters", &Material::parameters)
       .def_property_readonly("lame_lambda", &Material::lame_lambda)
       .def_property_readonly("lame_mu", &Material::lame_mu)
       .def("elasticity_matrix", &Material::elasticity_matrix);
+  bind_materials(m);  // after Material, which it takes
 
   m.def("polar_rotation", [](const Mat3& F) { return polar_rotation_svd(F); }, py::arg("F"));
   m.def(
@@ -129,7 +133,7 @@ PYBIND11_MODULE(_core, m) {
 
   py::class_<ForceModel>(m, "ForceModel")
       .def(py::init([](const std::string& model, const std::string& cell_type, const PointsIn& points,
-                       const CellsIn& cells, const Material& material, double thickness, bool project_psd) {
+                       const CellsIn& cells, const RegionMaterials& material, double thickness, bool project_psd) {
              return make_model(model, cell_type, nodes_from(points, "points"), cells_from(cells), material,
                                ModelOptions{thickness, project_psd});
            }),

@@ -6,7 +6,15 @@
 namespace corotate {
 
 void Material::validate() const {
-  auto fail = [](const std::string& what) { throw InvalidInput(what); };
+  if (!std::isfinite(density) || density <= 0) {
+    std::ostringstream msg;
+    msg << "density must be positive and finite, got rho = " << density;
+    throw InvalidInput(msg.str());
+  }
+  if (!law.empty()) detail::check_law_material(*this);
+  // For a law's material E and nu are derived: say so where they are the problem.
+  const std::string context = law.empty() ? "" : "the small-strain moduli of this '" + law + "' material: ";
+  auto fail = [&](const std::string& what) { throw InvalidInput(context + what); };
   std::ostringstream msg;
   if (!std::isfinite(youngs_modulus) || youngs_modulus <= 0) {
     msg << "Young's modulus must be positive and finite, got E = " << youngs_modulus;
@@ -16,10 +24,6 @@ void Material::validate() const {
     msg << "Poisson ratio must lie in (-1, 0.5), got nu = " << poisson_ratio;
     if (poisson_ratio >= 0.5)
       msg << " (nu >= 0.5 makes the material incompressible, which this compressible model cannot represent)";
-    fail(msg.str());
-  }
-  if (!std::isfinite(density) || density <= 0) {
-    msg << "density must be positive and finite, got rho = " << density;
     fail(msg.str());
   }
   const double lambda = lame_lambda(), mu = lame_mu();

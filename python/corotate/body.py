@@ -1,4 +1,4 @@
-"""A deformable body: a mesh, a material and a force model."""
+"""A deformable body: a mesh, its material(s) and a force model."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ from ._attributes import SettableOnly
 from .choices import MODELS, ModelName
 from .material import Material
 from .mesh import Mesh
+from .regions import Materials, check_cell_regions, dense_regions, materials_by_region
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -32,25 +33,33 @@ _IMMUTABLE = "a Body is immutable after construction (simulations step copies of
 def _read_only_copy(mesh: Mesh) -> Mesh:
     """A copy of mesh (checked afresh: the caller may have changed it since it was built)
     whose arrays cannot be written."""
-    copy = Mesh(mesh.points, mesh.cells, mesh.cell_type)
+    copy = Mesh(mesh.points, mesh.cells, mesh.cell_type, mesh.cell_regions)
     copy.points.flags.writeable = False
     copy.cells.flags.writeable = False
     return copy
 
 
 class Body(SettableOnly):
-    """A mesh of one cell type with a material and a force model.
+    """A mesh of one cell type with its material(s) and a force model.
 
     mesh      Mesh (any solid cell type of corotate.cell_types(); triangle cells for sheets)
-    material  Material
+    material  Material (every cell), or one per region: a list (region ids 0, 1, ...) or a
+              dict {region id: Material}
+    regions   (m,) int region id of each cell, for several materials; default: the mesh's
+              cell_regions (read_mesh takes them from Gmsh physical groups). A region id
+              without a material raises ValueError naming the cell. Every model, the mass
+              (each cell's density), modal reductions and force feedback use each cell's
+              material; a body of one region is the homogeneous body exactly.
     model     "corotational" (per-element rotation, eqs 3-4 of the paper; default),
               "linear" (small-displacement FEM, f = -K (x - X)), or a full nonlinear
               (hyperelastic, total-Lagrangian) model with exact tangent stiffness:
               "stvk" (St. Venant-Kirchhoff, W = mu E:E + lambda/2 tr(E)^2, E the Green
               strain), "neohookean" (stable Neo-Hookean of Smith et al. 2018, defined and
               finite for inverted elements), "fixed_corotated" (fixed co-rotated, Stomakhin
-              et al. 2012) or "neohookean_log" (the classic compressible Neo-Hookean, undefined
-              for inverted elements). All agree at small strain (same stiffness at rest).
+              et al. 2012), "neohookean_log" (the classic compressible Neo-Hookean, undefined
+              for inverted elements) or "mooney_rivlin" (C10, C01 and a bulk modulus, in
+              isochoric invariants: cr.Material(law="mooney_rivlin", C10=..., C01=..., bulk=...)).
+              All agree at small strain (same stiffness at rest).
     thickness sheet thickness [m] for triangle meshes (required there; membranes support
               model="stvk" only, with plane-stress Lame parameters). Not for solids.
     project_psd  hyperelastic models: project each element stiffness onto the nearest
@@ -67,21 +76,30 @@ class Body(SettableOnly):
     """
 
     _READ_ONLY_HINTS: ClassVar[dict[str, str]] = {
-        name: _IMMUTABLE for name in ("mesh", "material", "model", "thickness", "project_psd", "n_nodes")
+        name: _IMMUTABLE
+        for name in ("mesh", "material", "materials", "regions", "model", "thickness", "project_psd", "n_nodes")
     }
 
     def __init__(
         self,
         mesh: Mesh,
-        material: Material,
+        material: Materials,
         model: ModelName = "corotational",
         thickness: float | None = None,
         project_psd: bool = False,
+        regions: ArrayLike | None = None,
     ) -> None:
         if not isinstance(mesh, Mesh):
             raise TypeError("mesh must be a corotate.Mesh (see corotate.read_mesh, corotate.box)")
-        if not isinstance(material, Material):
-            raise TypeError("material must be a corotate.Material")
+        by_region = materials_by_region(material)
+        if isinstance(material, Material):
+            regions = None  # one material: every cell has it, whatever its region
+        elif regions is None:
+            regions = mesh.cell_regions
+        cell_regions = None if regions is None else check_cell_regions(regions, mesh.n_cells)
+        self._dense_materials = dense_regions(by_region, cell_regions)
+        if cell_regions is not None:
+            cell_regions.flags.writeable = False
         if mesh.cell_type == "triangle":
             if thickness is None:
                 raise ValueError("a triangle (sheet) mesh needs thickness=... [m]")
@@ -91,7 +109,8 @@ class Body(SettableOnly):
         if project_psd and model not in HYPERELASTIC_MODELS:
             raise ValueError(f"project_psd applies to the hyperelastic models {HYPERELASTIC_MODELS}, not {model!r}")
         self._mesh = _read_only_copy(mesh)
-        self._material = material
+        self._materials = by_region
+        self._regions = cell_regions
         self._model = model
         self._thickness = thickness
         self._project_psd = bool(project_psd)
@@ -101,7 +120,7 @@ class Body(SettableOnly):
             mesh.cell_type,
             self._mesh.points,
             self._mesh.cells,
-            material._core(),
+            self._core_materials(),
             thickness=1.0 if thickness is None else thickness,
             project_psd=self._project_psd,
         )
@@ -113,8 +132,36 @@ class Body(SettableOnly):
 
     @property
     def material(self) -> Material:
-        """The material (read-only: a new material needs a new Body)."""
-        return self._material
+        """The material of a body of one material (read-only: a new material needs a new Body);
+        ValueError for a body of several (see materials and regions)."""
+        if len(self._materials) > 1:
+            raise ValueError("this body has several materials: see body.materials and body.regions")
+        return next(iter(self._materials.values()))
+
+    @property
+    def materials(self) -> dict[int, Material]:
+        """{region id: Material} (a body of one material: {0: material}; read-only)."""
+        return dict(self._materials)
+
+    @property
+    def regions(self) -> np.ndarray | None:
+        """(m,) int64 region id of each cell (a read-only array); None when the body has no
+        regions (one material for every cell)."""
+        return self._regions
+
+    def _core_materials(self) -> _core.RegionMaterials:
+        """The core's materials: one, or one per region with each cell's (dense) region."""
+        materials, index = self._dense_materials
+        if index is None:
+            return _core.RegionMaterials(materials[0]._core())
+        return _core.RegionMaterials([m._core() for m in materials], index)
+
+    def cell_lame(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lambda (m,), mu (m,)): the small-strain Lame parameters [Pa] of each cell's material."""
+        materials, index = self._dense_materials
+        lame = np.array([m.lame for m in materials])
+        cells = np.zeros(self.mesh.n_cells, dtype=np.int64) if index is None else index
+        return lame[cells, 0], lame[cells, 1]
 
     @property
     def model(self) -> str:

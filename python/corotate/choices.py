@@ -10,7 +10,9 @@ from typing import Literal
 
 import corotate._core as _core
 
-ModelName = Literal["linear", "corotational", "stvk", "neohookean", "fixed_corotated", "neohookean_log"]
+ModelName = Literal[
+    "linear", "corotational", "stvk", "neohookean", "fixed_corotated", "neohookean_log", "mooney_rivlin"
+]
 CellType = str  # a key of corotate.cell_types()
 PreconditionerName = Literal["none", "jacobi", "block_jacobi", "reference_factor", "two_level", "auto"]
 ImplicitIntegratorName = Literal["linearized", "newton"]

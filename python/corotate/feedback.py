@@ -35,7 +35,8 @@ if TYPE_CHECKING:
 class HapticFeedback:
     """Force feedback at the tool nodes of a body.
 
-    body    Body (its mesh and material; the model used for the feedback is `method`)
+    body    Body (its mesh and material(s), each element's own; the model used for the
+            feedback is `method`, with the small-strain moduli E, nu of the materials)
     tool    node indices (int array or boolean mask) of the tool: the nodes the device moves
     method  "averaged" (default), "corotational" or "linear"
 
@@ -60,7 +61,7 @@ class HapticFeedback:
             mesh.cell_type,
             mesh.points,
             mesh.cells,
-            body.material._core(),
+            body._core_materials(),
             [int(i) for i in nodes.ravel()],
             method,
             thickness=1.0 if body.thickness is None else body.thickness,

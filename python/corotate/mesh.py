@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING, Any, Callable
 import numpy as np
 
 from . import _core
+from .regions import check_cell_regions
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -112,12 +113,16 @@ class Mesh:
                see the module docstring).
     repair     merge coincident nodes and drop duplicate cells (a warning counts
                each) instead of raising ValueError for them (volume cells).
+    cell_regions  optional (m,) integer region id of each cell (a body's
+               material per region, see Body); read_mesh reads them from
+               cell data such as Gmsh's physical groups.
 
     Attributes
     ----------
     points     (n, 3) float64
     cells      (m, k) int64
     cell_type  str
+    cell_regions  (m,) int64 or None
 
     Raises
     ------
@@ -128,14 +133,24 @@ class Mesh:
                 names the offending node / cell.
     """
 
-    def __init__(self, points: ArrayLike, cells: ArrayLike, cell_type: str = "tetra", repair: bool = False) -> None:
+    def __init__(
+        self,
+        points: ArrayLike,
+        cells: ArrayLike,
+        cell_type: str = "tetra",
+        cell_regions: ArrayLike | None = None,
+        repair: bool = False,
+    ) -> None:
         self.cell_type = _check_cell_type(cell_type)
         self.points = _check_points(points)
         self.cells = _check_cells(cells, self.cell_type, len(self.points))
+        self.cell_regions = None if cell_regions is None else check_cell_regions(cell_regions, len(self.cells))
         if self.cell_type in VOLUME_CELL_TYPES:  # one solid: see mesh_checks
             from .mesh_checks import check_volume_mesh
 
-            self.points, self.cells = check_volume_mesh(self, repair=repair)
+            self.points, self.cells, kept = check_volume_mesh(self, repair=repair)
+            if self.cell_regions is not None and len(kept) != len(self.cell_regions):
+                self.cell_regions = self.cell_regions[kept]
 
     @property
     def n_nodes(self) -> int:
@@ -246,7 +261,9 @@ class Mesh:
         """
         meshio = _meshio()
         data = _check_point_data(point_data, self.n_nodes)
-        return meshio.Mesh(self.points.copy(), [(self.cell_type, self.cells.copy())], point_data=data)
+        return meshio.Mesh(
+            self.points.copy(), [(self.cell_type, self.cells.copy())], point_data=data, cell_data=_region_data(self)
+        )
 
     def to_pyvista(self) -> Any:
         """This mesh as a ``pyvista.UnstructuredGrid`` (needs pyvista, which
@@ -349,7 +366,10 @@ def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = 
             many were dropped.
     repair  merge coincident nodes and drop duplicate cells, with a warning
             counting each, instead of raising (see :class:`Mesh`).
-    returns  Mesh with one of the supported cell types.
+    returns  Mesh with one of the supported cell types; its cell_regions are the
+             cells' region ids where the file has them (cell data
+             ``gmsh:physical``, ``cell_regions``, ``medit:ref`` or
+             ``CellEntityIds``, the first found), else None.
 
     Cells with negative signed volume are mirrored into VTK orientation (for
     tets: nodes 1 and 2 swapped) with a warning giving their count.
@@ -374,17 +394,21 @@ def read_mesh(source: str | os.PathLike[str] | Any, remove_unused_nodes: bool = 
     """
     from . import mesh_io
 
+    regions = None
     if _is_meshio_mesh(source):
         label = "meshio.Mesh"
         points, cells, cell_type = mesh_io.volume_cells(source, label, stacklevel=2)
+        regions = mesh_io.volume_cell_regions(source, cell_type, label)
     else:
         from .mesh_files import read_mesh_file
 
         path = Path(os.fspath(source))
         label = str(path)
-        points, cells, cell_type = mesh_io.volume_cells(read_mesh_file(path), label, stacklevel=2)
+        m = read_mesh_file(path)
+        points, cells, cell_type = mesh_io.volume_cells(m, label, stacklevel=2)
+        regions = mesh_io.volume_cell_regions(m, cell_type, label)
     try:
-        mesh = Mesh(points, cells, cell_type, repair=repair)  # validates before any renumbering
+        mesh = Mesh(points, cells, cell_type, regions, repair=repair)  # validates before any renumbering
     except ValueError as e:
         raise ValueError(f"{label}: {e}") from e
     mesh = _drop_unused_nodes(mesh, label, remove_unused_nodes)
@@ -419,7 +443,7 @@ def _drop_unused_nodes(mesh: Mesh, path: str | os.PathLike[str], remove: bool) -
         "remaining nodes were renumbered in their original order",
         stacklevel=3,
     )
-    return Mesh(mesh.points[used], new_index[mesh.cells], mesh.cell_type)
+    return Mesh(mesh.points[used], new_index[mesh.cells], mesh.cell_type, mesh.cell_regions)
 
 
 def _fix_orientation(mesh: Mesh, path: str | os.PathLike[str]) -> None:
@@ -447,8 +471,13 @@ def write_mesh(path: str | os.PathLike[str], mesh: Mesh, point_data: Mapping[str
     """
     meshio = _meshio()
     data = _check_point_data(point_data, mesh.n_nodes)
-    out = meshio.Mesh(mesh.points, [(mesh.cell_type, mesh.cells)], point_data=data)
+    out = meshio.Mesh(mesh.points, [(mesh.cell_type, mesh.cells)], point_data=data, cell_data=_region_data(mesh))
     meshio.write(os.fspath(path), out)
+
+
+def _region_data(mesh: Mesh) -> dict:
+    """meshio cell data holding the mesh's cell_regions (read back by read_mesh)."""
+    return {} if mesh.cell_regions is None else {"cell_regions": [mesh.cell_regions.copy()]}
 
 
 def _check_point_data(point_data: Mapping[str, ArrayLike] | None, n_nodes: int) -> dict:

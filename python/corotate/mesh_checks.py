@@ -118,14 +118,17 @@ def merge_coincident_nodes(
     return points[kept], renumber[target][cells], int(n - kept.sum())
 
 
-def check_volume_mesh(mesh: Mesh, repair: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """The mesh's (points, cells), checked as the module docstring says; with repair,
-    coincident nodes merged and duplicate cells dropped first (a warning counts each).
+def check_volume_mesh(mesh: Mesh, repair: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The mesh's (points, cells, kept), checked as the module docstring says; with repair,
+    coincident nodes merged and duplicate cells dropped first (a warning counts each);
+    kept: the indices of the input cells that remain (for data per cell, such as regions).
 
     Raises ValueError naming the first cells or nodes at fault and how many there are."""
     points, cells = mesh.points, mesh.cells
+    kept = np.arange(len(cells))
     if repair:
         points, cells, merged = merge_coincident_nodes(points, cells)
+        kept = np.delete(kept, duplicate_cells(cells)[:, 1])
         cells, dropped = drop_duplicate_cells(cells)
         for count, what in ((merged, "coincident node(s) merged"), (dropped, "duplicate cell(s) dropped")):
             if count:
@@ -150,7 +153,7 @@ def check_volume_mesh(mesh: Mesh, repair: bool = False) -> tuple[np.ndarray, np.
         raise ValueError(f"cell {int(repeated[0])} names a node twice ({len(repeated)} such cell(s)): it has no volume")
     if len(cells):
         _check_no_overlap(mesh, points, cells)
-    return points, cells
+    return points, cells, kept
 
 
 def _apart(pairs: np.ndarray, cells: np.ndarray, n_nodes: int) -> np.ndarray:

@@ -433,6 +433,30 @@ def volume_cells(m: Any, source: str, stacklevel: int = 2) -> tuple[np.ndarray, 
     return points, np.concatenate(arrays, axis=0), cell_type
 
 
+#: Cell data names that hold region ids, in the order read_mesh looks for them (Gmsh physical
+#: groups, what write_mesh writes, Medit references, DOLFINx/FEniCS entity ids).
+REGION_DATA_NAMES = ("gmsh:physical", "cell_regions", "medit:ref", "CellEntityIds")
+
+
+def volume_cell_regions(m: Any, cell_type: str, source: str) -> np.ndarray | None:
+    """(m,) int64 region ids of the cell_type cells of a meshio.Mesh, in the order
+    volume_cells concatenates them, from the first of REGION_DATA_NAMES its cell data has;
+    None without one. ValueError for ids that are not integers."""
+    data = getattr(m, "cell_data", None) or {}
+    name = next((n for n in REGION_DATA_NAMES if n in data), None)
+    if name is None:
+        return None
+    blocks = zip(m.cells, data[name])
+    parts = [np.asarray(values).reshape(-1) for block, values in blocks if str(block.type) == cell_type]
+    regions = np.concatenate(parts) if parts else np.zeros(0, dtype=np.int64)
+    if not np.issubdtype(regions.dtype, np.integer):
+        as_int = np.rint(regions) if np.issubdtype(regions.dtype, np.floating) else None
+        if as_int is None or not np.array_equal(as_int, regions):
+            raise ValueError(f"{source}: cell data {name!r} (region ids) must be integers")
+        regions = as_int
+    return regions.astype(np.int64)
+
+
 def _block_array(data: Any, cell_type: str, n_points: int, source: str) -> np.ndarray | None:
     """A cell block as an (m, k) int64 array with all indices in range, or
     None for blocks of varying cell size (polygons, polyhedra)."""

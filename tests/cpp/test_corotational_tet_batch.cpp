@@ -30,14 +30,15 @@ Kernel::NodeMatrix random_tet() {  // a positively oriented, reasonably shaped t
 }  // namespace
 
 TEST(batched_tet_kernel_equals_the_one_element_kernel) {
-  const Kernel kernel(kMaterial, ModelOptions());
+  // Two materials, alternating lane by lane: each lane has its own Lame parameters.
+  const Kernel kernel(RegionMaterials({kMaterial, Material{3e6, 0.45, 500.0}}, {}), ModelOptions());
   const double scale = 0.37;
   for (const int count : {1, 7, 15, kTetBatch}) {
     Kernel::Element el[kTetBatch];
     Kernel::Frame fr[kTetBatch];
     Kernel::NodeMatrix x[kTetBatch], y[kTetBatch];
     for (int b = 0; b < count; ++b) {
-      el[b] = kernel.precompute(random_tet(), b);
+      el[b] = kernel.precompute(random_tet(), b, b % 2);
       // Any rotation: the formulas do not need it to be the polar one of the positions.
       fr[b].R = fixtures::random_rotation();
       x[b] = fr[b].R * random_tet();
@@ -59,7 +60,7 @@ TEST(batched_tet_kernel_equals_the_one_element_kernel) {
         }
     }
     ForceStiffnessBatch<4, kTetBatch> batch;
-    corotational_tet_batch(in, kMaterial.lame_lambda(), kMaterial.lame_mu(), scale, batch);
+    corotational_tet_batch(in, scale, batch);
     for (int b = 0; b < count; ++b) {
       const double energy = kernel.energy(el[b], fr[b], x[b]);
       CHECK(energy > 0);

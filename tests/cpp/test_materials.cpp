@@ -2,7 +2,10 @@
 // the gradient of the energy density and the tangent is the gradient of the stress (central
 // differences), the rest state is stress free with the linear-elastic tangent, and the energy
 // does not change under rotation.
+#include <limits>
+
 #include "corotate/materials/fixed_corotated.hpp"
+#include "corotate/materials/mooney_rivlin.hpp"
 #include "corotate/materials/stable_neo_hookean.hpp"
 #include "corotate/materials/stvk.hpp"
 #include "fixtures.hpp"
@@ -103,6 +106,18 @@ void check_law(const Law& law, bool inversion_safe) {
 TEST(stvk_stress_and_tangent_are_derivatives) { check_law(StVK{lambda, mu}, true); }
 TEST(stable_neo_hookean_stress_and_tangent_are_derivatives) { check_law(StableNeoHookean{lambda, mu}, true); }
 TEST(fixed_corotated_stress_and_tangent_are_derivatives) { check_law(FixedCorotated{lambda, mu}, true); }
+
+TEST(mooney_rivlin_stress_and_tangent_are_derivatives) {
+  // C10, C01 both active, mu = 2 (C10 + C01) and bulk = lambda + 2 mu / 3 (the rest check).
+  check_law(MooneyRivlin{0.4, 0.25, lambda + 2 * mu / 3}, false);
+}
+
+TEST(mooney_rivlin_is_undefined_under_inversion) {
+  const MooneyRivlin law{0.4, 0.25, 3.0};
+  CHECK(law.energy(inverted()) == std::numeric_limits<double>::infinity());
+  CHECK(law.stress(inverted()).array().isNaN().all());
+  CHECK(law.tangent(inverted()).array().isNaN().all());
+}
 
 TEST(stvk_membrane_stress_and_tangent_are_derivatives) {
   const StVK law{lambda, mu};

@@ -211,3 +211,59 @@ TEST(a_renamed_model_name_says_the_new_name) {
   CHECK(std::find(names.begin(), names.end(), "corotated") == names.end());
   check_renamed_model("fixed_corotated");  // a current name passes
 }
+
+TEST(a_body_of_one_region_is_the_homogeneous_body_bit_for_bit) {
+  for (const std::string cell : {"tetra", "hexahedron"})
+    for (const auto& name : model_names()) {
+      const auto mesh = mesh_for(cell);
+      const RegionMaterials one_region({kMaterial}, std::vector<int>(mesh.cells.rows(), 0));
+      auto homogeneous = make_model(name, cell, mesh.points, mesh.cells, kMaterial);
+      auto regions = make_model(name, cell, mesh.points, mesh.cells, one_region);
+      const Nodes x = deformed(mesh.points);
+      CHECK(forces(*homogeneous, x) == forces(*regions, x));
+      CHECK(homogeneous->energy(x) == regions->energy(x));
+      BlockSparseMatrix K = homogeneous->pattern(), K_regions = regions->pattern();
+      K.set_zero();
+      K_regions.set_zero();
+      homogeneous->add_stiffness(x, StiffnessKind::Model, 1.0, K);
+      regions->add_stiffness(x, StiffnessKind::Model, 1.0, K_regions);
+      CHECK(K.values() == K_regions.values());
+      CHECK(homogeneous->mass_matrix(false).values() == regions->mass_matrix(false).values());
+    }
+}
+
+TEST(each_cell_takes_its_regions_stiffness_and_density) {
+  // Two materials on alternate tets: the body's forces and lumped masses are the sums of
+  // those of one-cell bodies, each of its own cell's material.
+  const auto mesh = fixtures::tet_beam(2, 1, 1);
+  const Material other{3 * kMaterial.youngs_modulus, 0.1, 2.5 * kMaterial.density};
+  const Material by_region[2] = {kMaterial, other};
+  std::vector<int> regions(mesh.cells.rows());
+  for (Index e = 0; e < mesh.cells.rows(); ++e) regions[e] = static_cast<int>(e % 2);
+  const Nodes x = deformed(mesh.points);
+  for (const auto& name : model_names()) {
+    auto body = make_model(name, "tetra", mesh.points, mesh.cells, RegionMaterials({kMaterial, other}, regions));
+    Nodes expected_f = Nodes::Zero(3, x.cols()), expected_m = Nodes::Zero(3, x.cols());
+    for (Index e = 0; e < mesh.cells.rows(); ++e) {
+      Nodes X(3, 4), xe(3, 4);
+      Connectivity cell(1, 4);
+      for (int a = 0; a < 4; ++a) {
+        X.col(a) = mesh.points.col(mesh.cells(e, a));
+        xe.col(a) = x.col(mesh.cells(e, a));
+        cell(0, a) = a;
+      }
+      auto one = make_model(name, "tetra", X, cell, by_region[regions[e]]);
+      const Nodes fe = forces(*one, xe);
+      const BlockSparseMatrix Me = one->mass_matrix(true);
+      for (int a = 0; a < 4; ++a) {
+        expected_f.col(mesh.cells(e, a)) += fe.col(a);
+        expected_m.col(mesh.cells(e, a)) += Me.block(Me.diagonal_block(a)).diagonal();
+      }
+    }
+    CHECK((forces(*body, x) - expected_f).norm() <= 1e-12 * expected_f.norm());
+    const BlockSparseMatrix M = body->mass_matrix(true);
+    for (Index i = 0; i < M.num_nodes(); ++i)
+      CHECK((Vec3(M.block(M.diagonal_block(i)).diagonal()) - expected_m.col(i)).norm() <=
+            1e-12 * expected_m.col(i).norm());
+  }
+}

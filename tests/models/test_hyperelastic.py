@@ -6,7 +6,8 @@ the PSD projection, the StVK uniaxial-stretch closed form, and bad input."""
 
 import numpy as np
 import pytest
-import scipy.sparse.linalg as spla
+from derivative_support import gradient_fd, jacobian_fd, rel_err
+from uniaxial_support import pull_bar
 
 import corotate as cr
 from corotate import _core
@@ -45,31 +46,6 @@ def random_deformed(points, seed, amplitude=0.2):
     rng = np.random.default_rng(seed)
     A = rotation(rng.standard_normal(3), 1.0) @ (np.eye(3) + 0.15 * rng.standard_normal((3, 3)))
     return points @ A.T + amplitude * rng.uniform(-1, 1, points.shape) * 0.5
-
-
-def gradient_fd(fun, x, h):
-    g = np.zeros_like(x)
-    for idx in np.ndindex(*x.shape):
-        xp, xm = x.copy(), x.copy()
-        xp[idx] += h
-        xm[idx] -= h
-        g[idx] = (fun(xp) - fun(xm)) / (2 * h)
-    return g
-
-
-def jacobian_fd(fun, x, h):
-    """d fun / dx as a (3n, 3n) matrix for fun: (n, 3) -> (n, 3), DOF = 3*node + axis."""
-    cols = []
-    for idx in np.ndindex(*x.shape):
-        xp, xm = x.copy(), x.copy()
-        xp[idx] += h
-        xm[idx] -= h
-        cols.append(((fun(xp) - fun(xm)) / (2 * h)).ravel())
-    return np.array(cols).T
-
-
-def rel_err(a, b):
-    return np.abs(a - b).max() / np.abs(b).max()
 
 
 def all_bodies():
@@ -315,30 +291,9 @@ def test_stvk_uniaxial_stretch_matches_closed_form(element):
     faces: x-displacement prescribed on both ends, lateral contraction free everywhere,
     rigid motions removed by three single-DOF supports."""
     L, w, h = 4.0, 1.0, 1.0
-    mesh = cr.box((L, w, h), (4, 2, 2), element)
-    body = cr.Body(mesh, MAT, model="stvk")
-    p = mesh.points
-    left, right = mesh.nodes_on_plane("x", 0.0), mesh.nodes_on_plane("x", L)
-    fixed = [3 * i for i in left] + [3 * i for i in right]
-    origin, corner_y = mesh.nearest_node((0, 0, 0)), mesh.nearest_node((0, w, 0))
-    fixed += [3 * origin + 1, 3 * origin + 2, 3 * corner_y + 2]
-    free = np.setdiff1d(np.arange(3 * mesh.n_nodes), fixed)
-    x = p.copy()
-    for stretch in np.linspace(1.05, 1.5, 10):
-        x[right, 0] = stretch * L
-        for _ in range(30):
-            r = body.internal_forces(x).ravel()[free]
-            if np.linalg.norm(r) < 1e-9 * MAT.E * w * h:
-                break
-            K = body.stiffness_matrix(x).tocsc()[free][:, free]
-            dx = x.ravel().copy()
-            dx[free] += spla.spsolve(K, r)
-            x = dx.reshape(-1, 3)
-        else:
-            pytest.fail(f"Newton did not converge at stretch {stretch}")
-        force = -body.internal_forces(x)[right, 0].sum()
-        expected = stvk_uniaxial_force(stretch, w * h)
-        assert force == pytest.approx(expected, rel=1e-2)
+    body = cr.Body(cr.box((L, w, h), (4, 2, 2), element), MAT, model="stvk")
+    for stretch, x, force in pull_bar(body, L, w, np.linspace(1.05, 1.5, 10), 1e-9 * MAT.E * w * h):
+        assert force == pytest.approx(stvk_uniaxial_force(stretch, w * h), rel=1e-2)
         lateral = (x[:, 1].max() - x[:, 1].min()) / w
         assert lateral == pytest.approx(np.sqrt(1 - MAT.nu * (stretch**2 - 1)), rel=1e-2)
 

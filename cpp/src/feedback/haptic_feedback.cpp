@@ -20,7 +20,7 @@ FeedbackMethod feedback_method_from_name(const std::string& name) {
 }
 
 HapticFeedback::HapticFeedback(const std::string& cell_type, const Nodes& rest, const Connectivity& cells,
-                               const Material& material, const std::vector<Index>& tool, FeedbackMethod method,
+                               const RegionMaterials& materials, const std::vector<Index>& tool, FeedbackMethod method,
                                const ModelOptions& options)
     : tool_(tool), method_(method) {
   const Index n = rest.cols();
@@ -64,7 +64,12 @@ HapticFeedback::HapticFeedback(const std::string& cell_type, const Nodes& rest, 
   for (size_t j = 0; j < local_to_global_.size(); ++j)
     local_rest.col(static_cast<Index>(j)) = rest.col(local_to_global_[j]);
   static const char* const kModel[] = {"linear", "corotational", "stvk"};  // Averaged: see the header
-  local_ = make_model(kModel[static_cast<int>(method)], cell_type, local_rest, local_cells, material, options);
+  // The tool's elements keep their materials, given by their small-strain moduli (the
+  // averaged method's StVK takes E and nu whatever the body's law).
+  materials.validate(cells.rows());
+  RegionMaterials local_materials = materials.of_cells(elements);
+  for (Material& m : local_materials.materials) m = m.small_strain();
+  local_ = make_model(kModel[static_cast<int>(method)], cell_type, local_rest, local_cells, local_materials, options);
   K_local_ = local_->pattern();
   const Index k = static_cast<Index>(tool.size());
   tool_blocks_.resize(k * k);

@@ -10,8 +10,8 @@ namespace {
 constexpr int B = kTetBatch;
 
 // sigma = 2 mu strain + lambda tr(strain) I of strain = sym(R^T F) - I, lane by lane.
-COROTATE_CLONE_INLINE void stress(const double (&R)[3][3][B], const double (&F)[3][3][B], double lambda, double mu,
-                                  double (&sigma)[3][3][B]) {
+COROTATE_CLONE_INLINE void stress(const double (&R)[3][3][B], const double (&F)[3][3][B], const double (&lambda)[B],
+                                  const double (&mu)[B], double (&sigma)[3][3][B]) {
   double C[3][3][B];
   for (int k = 0; k < 3; ++k)
     for (int l = 0; l < 3; ++l)
@@ -19,13 +19,13 @@ COROTATE_CLONE_INLINE void stress(const double (&R)[3][3][B], const double (&F)[
         C[k][l][b] = R[0][k][b] * F[0][l][b] + R[1][k][b] * F[1][l][b] + R[2][k][b] * F[2][l][b];
   for (int b = 0; b < B; ++b) {
     const double e00 = C[0][0][b] - 1, e11 = C[1][1][b] - 1, e22 = C[2][2][b] - 1;
-    const double trace = lambda * (e00 + e11 + e22), twice_mu = 2 * mu;
+    const double trace = lambda[b] * (e00 + e11 + e22), twice_mu = 2 * mu[b];
     sigma[0][0][b] = twice_mu * e00 + trace;
     sigma[1][1][b] = twice_mu * e11 + trace;
     sigma[2][2][b] = twice_mu * e22 + trace;
-    sigma[0][1][b] = sigma[1][0][b] = mu * (C[0][1][b] + C[1][0][b]);
-    sigma[0][2][b] = sigma[2][0][b] = mu * (C[0][2][b] + C[2][0][b]);
-    sigma[1][2][b] = sigma[2][1][b] = mu * (C[1][2][b] + C[2][1][b]);
+    sigma[0][1][b] = sigma[1][0][b] = mu[b] * (C[0][1][b] + C[1][0][b]);
+    sigma[0][2][b] = sigma[2][0][b] = mu[b] * (C[0][2][b] + C[2][0][b]);
+    sigma[1][2][b] = sigma[2][1][b] = mu[b] * (C[1][2][b] + C[2][1][b]);
   }
 }
 }  // namespace
@@ -53,10 +53,12 @@ COROTATE_CPU_CLONES void gather_tet_batch(const TetBatchElements& elements, cons
             xs[0][i][b] * G[0][j][b] + xs[1][i][b] * G[1][j][b] + xs[2][i][b] * G[2][j][b] + xs[3][i][b] * G[3][j][b];
 }
 
-COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double lambda, double mu, double scale,
+COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double scale,
                                                 ForceStiffnessBatch<4, kTetBatch>& out) {
   const auto& G = in.elements->G;
   const auto& volume = in.elements->volume;
+  const auto& lambda = in.elements->lambda;
+  const auto& mu = in.elements->mu;
   // Rotated gradients a_i = R g_i.
   alignas(64) double a[4][3][B];
   for (int i = 0; i < 4; ++i)
@@ -99,8 +101,8 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
     const double e00 = C[0][0][b] - 1, e11 = C[1][1][b] - 1, e22 = C[2][2][b] - 1, trace = e00 + e11 + e22;
     const double s01 = C[0][1][b] + C[1][0][b], s02 = C[0][2][b] + C[2][0][b],
                  s12 = C[1][2][b] + C[2][1][b];  // twice e_ij
-    const double contraction = 2 * mu * (e00 * e00 + e11 * e11 + e22 * e22) + mu * (s01 * s01 + s02 * s02 + s12 * s12) +
-                               lambda * trace * trace;
+    const double contraction = 2 * mu[b] * (e00 * e00 + e11 * e11 + e22 * e22) +
+                               mu[b] * (s01 * s01 + s02 * s02 + s12 * s12) + lambda[b] * trace * trace;
     out.energy[b] = 0.5 * volume[b] * contraction;
     const auto& F = in.F;
     out.volume_ratio[b] = F[0][0][b] * (F[1][1][b] * F[2][2][b] - F[1][2][b] * F[2][1][b]) -
@@ -115,7 +117,7 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
   auto blocks = [&](const auto& g, auto& K) {
     using Value = std::remove_reference_t<decltype(K[0][0][0])>;
     Value vl[B], vm[B];
-    for (int b = 0; b < B; ++b) vl[b] = Value(scale * volume[b] * lambda), vm[b] = Value(scale * volume[b] * mu);
+    for (int b = 0; b < B; ++b) vl[b] = Value(scale * volume[b] * lambda[b]), vm[b] = Value(scale * volume[b] * mu[b]);
     int p = 0;
     for (int i = 0; i < 4; ++i)
       for (int j = i; j < 4; ++j, ++p)

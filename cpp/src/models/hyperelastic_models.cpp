@@ -9,13 +9,14 @@ namespace corotate {
 namespace {
 template <class Elements, class Laws>
 std::unique_ptr<ForceModel> build(const std::string& law, const std::string& cell_type, const Nodes& rest,
-                                  const Connectivity& cells, const Material& material, const ModelOptions& options) {
+                                  const Connectivity& cells, const RegionMaterials& materials,
+                                  const ModelOptions& options) {
   std::unique_ptr<ForceModel> model;
   visit_by_name(Elements{}, cell_type, [&](auto element) {
     visit_by_name(Laws{}, law, [&](auto law_tag) {
       using E = typename decltype(element)::type;
       using L = typename decltype(law_tag)::type;
-      model = std::make_unique<AssembledModel<HyperelasticKernel<E, L>>>(rest, cells, material, options);
+      model = std::make_unique<AssembledModel<HyperelasticKernel<E, L>>>(rest, cells, materials, options);
     });
   });
   return model;
@@ -24,9 +25,10 @@ std::unique_ptr<ForceModel> build(const std::string& law, const std::string& cel
 
 std::unique_ptr<ForceModel> make_hyperelastic_model(const std::string& law, const std::string& cell_type,
                                                     const Nodes& rest, const Connectivity& cells,
-                                                    const Material& material, const ModelOptions& options) {
-  if (auto model = build<SolidElements, HyperelasticLaws>(law, cell_type, rest, cells, material, options)) return model;
-  return build<MembraneElements, MembraneLaws>(law, cell_type, rest, cells, material, options);
+                                                    const RegionMaterials& materials, const ModelOptions& options) {
+  if (auto model = build<SolidElements, HyperelasticLaws>(law, cell_type, rest, cells, materials, options))
+    return model;
+  return build<MembraneElements, MembraneLaws>(law, cell_type, rest, cells, materials, options);
 }
 
 }  // namespace corotate

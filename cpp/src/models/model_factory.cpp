@@ -35,7 +35,7 @@ std::vector<std::string> models_for_cell_type(const std::string& cell_type) {
 }
 
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
-                                       const Connectivity& cells, const Material& material,
+                                       const Connectivity& cells, const RegionMaterials& materials,
                                        const ModelOptions& options) {
   const std::vector<std::string> models = model_names(), available = models_for_cell_type(cell_type);
   if (available.empty())
@@ -47,9 +47,9 @@ std::unique_ptr<ForceModel> make_model(const std::string& model, const std::stri
     throw InvalidInput("model '" + model + "' is not available for " + cell_type + " cells (choose " +
                        joined(available) + ")");
   std::unique_ptr<ForceModel> built;
-  if (model == "linear") built = make_linear_model(cell_type, rest, cells, material, options);
-  else if (model == "corotational") built = make_corotational_model(cell_type, rest, cells, material, options);
-  else built = make_hyperelastic_model(model, cell_type, rest, cells, material, options);
+  if (model == "linear") built = make_linear_model(cell_type, rest, cells, materials, options);
+  else if (model == "corotational") built = make_corotational_model(cell_type, rest, cells, materials, options);
+  else built = make_hyperelastic_model(model, cell_type, rest, cells, materials, options);
   if (!built) throw InvalidInput("model '" + model + "' is not available for " + cell_type + " cells");
   return built;
 }

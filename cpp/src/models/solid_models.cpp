@@ -7,23 +7,23 @@
 namespace corotate {
 
 std::unique_ptr<ForceModel> make_linear_model(const std::string& cell_type, const Nodes& rest,
-                                              const Connectivity& cells, const Material& material,
+                                              const Connectivity& cells, const RegionMaterials& materials,
                                               const ModelOptions& options) {
   std::unique_ptr<ForceModel> model;
   visit_by_name(SolidElements{}, cell_type, [&](auto element) {
     using E = typename decltype(element)::type;
-    model = std::make_unique<AssembledModel<LinearKernel<E>>>(rest, cells, material, options);
+    model = std::make_unique<AssembledModel<LinearKernel<E>>>(rest, cells, materials, options);
   });
   return model;
 }
 
 std::unique_ptr<ForceModel> make_corotational_model(const std::string& cell_type, const Nodes& rest,
-                                                    const Connectivity& cells, const Material& material,
+                                                    const Connectivity& cells, const RegionMaterials& materials,
                                                     const ModelOptions& options) {
   std::unique_ptr<ForceModel> model;
   visit_by_name(SolidElements{}, cell_type, [&](auto element) {
     using E = typename decltype(element)::type;
-    model = std::make_unique<AssembledModel<CorotationalKernel<E>>>(rest, cells, material, options);
+    model = std::make_unique<AssembledModel<CorotationalKernel<E>>>(rest, cells, materials, options);
   });
   return model;
 }

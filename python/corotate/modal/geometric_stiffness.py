@@ -97,7 +97,7 @@ def scaled_mode_geometric_stiffness(body: Body, basis: ModalBasis, amplitude: fl
         phi = basis.vectors[:, i]
         s = amplitude * size / np.abs(phi).max()
         x = mesh.points + s * _nodes(phi)
-        moved = Body(Mesh(x, mesh.cells, mesh.cell_type), body.material, model="linear")
+        moved = Body(Mesh(x, mesh.cells, mesh.cell_type), body.materials, model="linear", regions=body.regions)
         K = (body.tangent_matrix(x) - moved.stiffness_matrix()) / s
         A[:, :, i] = _project(basis, K)
     return A

@@ -1,7 +1,7 @@
 """Modal stresses: the linear (small-strain) stress of each basis vector at the element
 centres, computed once; the stress of a modal state is then sum_i q_i sigma_i.
 
-sigma = lambda tr(eps) I + 2 mu eps with eps = sym(grad u), grad u = sum_a u_a (x) dN_a/dX at
+sigma = lambda tr(eps) I + 2 mu eps (each cell's material) with eps = sym(grad u), grad u = sum_a u_a (x) dN_a/dX at
 the element centre (the core's element centre gradients, for every solid cell type).
 """
 
@@ -44,9 +44,9 @@ def linear_stress(body: Body, displacement: ArrayLike, gradients: np.ndarray | N
     G = centre_gradients(body) if gradients is None else gradients
     H = np.einsum("eai,eaj->eij", u[body.mesh.cells], G)  # grad u per element
     eps = 0.5 * (H + H.transpose(0, 2, 1))
-    lam, mu = body.material.lame
+    lam, mu = body.cell_lame()  # each cell's material
     trace = np.trace(eps, axis1=1, axis2=2)
-    return lam * trace[:, None, None] * np.eye(3) + 2 * mu * eps
+    return (lam * trace)[:, None, None] * np.eye(3) + 2 * mu[:, None, None] * eps
 
 
 def modal_stresses(body: Body, basis: ModalBasis) -> np.ndarray:

@@ -63,7 +63,8 @@ class InteractiveScene:
         self.dt = float(sim.dt)
         mesh = sim.body.mesh
         edge = float(np.linalg.norm(mesh.points[mesh.cells[:, 0]] - mesh.points[mesh.cells[:, 1]], axis=1).mean())
-        self.grab_stiffness = float(100.0 * sim.body.material.E * edge if grab_stiffness is None else grab_stiffness)
+        stiffest = max(m.E for m in sim.body.materials.values())
+        self.grab_stiffness = float(100.0 * stiffest * edge if grab_stiffness is None else grab_stiffness)
         if not (self.grab_stiffness > 0 and np.isfinite(self.grab_stiffness)):
             raise ValueError(f"grab_stiffness must be positive and finite, got {grab_stiffness}")
         self.grab_radius = float(edge if grab_radius is None else grab_radius)

@@ -44,10 +44,12 @@ FeedbackMethod feedback_method_from_name(const std::string& name);
 
 class HapticFeedback {
  public:
-  // The body's mesh (rest: 3 x n, cells: m x k of cell_type) and material; tool: node indices
-  // (distinct, in range). Throws InvalidInput naming what is wrong.
-  HapticFeedback(const std::string& cell_type, const Nodes& rest, const Connectivity& cells, const Material& material,
-                 const std::vector<Index>& tool, FeedbackMethod method, const ModelOptions& options = ModelOptions());
+  // The body's mesh (rest: 3 x n, cells: m x k of cell_type) and materials (one, or one per
+  // region with each cell's region; every method uses their small-strain moduli E and nu);
+  // tool: node indices (distinct, in range). Throws InvalidInput naming what is wrong.
+  HapticFeedback(const std::string& cell_type, const Nodes& rest, const Connectivity& cells,
+                 const RegionMaterials& materials, const std::vector<Index>& tool, FeedbackMethod method,
+                 const ModelOptions& options = ModelOptions());
 
   // At positions x (3 x n, the whole body's; only the nodes of the tool's elements are read):
   // forces (3 x k), the force the body exerts on each tool node (its internal elastic force);

@@ -39,9 +39,10 @@ class AssembledModel final : public ForceModel {
   using Stiffness = typename KernelTypes<ElementType>::Stiffness;
   using NodeScalars = typename KernelTypes<ElementType>::NodeScalars;
 
-  // rest: 3 x n node positions; cells: m x N node indices (VTK ordering). Throws
-  // InvalidInput naming the bad node, cell, element or parameter.
-  AssembledModel(const Nodes& rest, const Connectivity& cells, const Material& material,
+  // rest: 3 x n node positions; cells: m x N node indices (VTK ordering); materials: one
+  // Material, or one per region with each cell's region. Throws InvalidInput naming the bad
+  // node, cell, element, region or parameter.
+  AssembledModel(const Nodes& rest, const Connectivity& cells, const RegionMaterials& materials,
                  const ModelOptions& options = ModelOptions());
 
   const char* name() const override { return Kernel::name; }
@@ -84,8 +85,8 @@ class AssembledModel final : public ForceModel {
   }
 
  private:
-  static const Material& validated(const Material& m) {
-    m.validate();
+  static const RegionMaterials& validated(const RegionMaterials& m, Index num_cells) {
+    m.validate(num_cells);
     return m;
   }
   void gather(const Nodes& x, Index e, NodeMatrix& xe) const {
@@ -187,9 +188,12 @@ class AssembledModel final : public ForceModel {
 };
 
 template <class Kernel>
-AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& cells, const Material& material,
+AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& cells, const RegionMaterials& materials,
                                        const ModelOptions& options)
-    : kernel_(validated(material), options), rest_(rest), cells_(cells), project_psd_(options.project_psd) {
+    : kernel_(validated(materials, cells.rows()), options),
+      rest_(rest),
+      cells_(cells),
+      project_psd_(options.project_psd) {
   validate_mesh(rest, cells, N, ElementType::name);
   if constexpr (ElementType::dim == 2) {
     if (!std::isfinite(options.thickness) || options.thickness <= 0) {
@@ -207,8 +211,8 @@ AssembledModel<Kernel>::AssembledModel(const Nodes& rest, const Connectivity& ce
   NodeMatrix X;
   for (Index e = 0; e < m; ++e) {
     gather(rest, e, X);
-    elements_.push_back(kernel_.precompute(X, e));
-    masses_.push_back(element_mass<ElementType>(X, e, material.density, options.thickness));
+    elements_.push_back(kernel_.precompute(X, e, materials.region_of(e)));
+    masses_.push_back(element_mass<ElementType>(X, e, materials.of_cell(e).density, options.thickness));
     for (int a = 0; a < N; ++a)
       for (int b = 0; b < N; ++b) block_ids_[(e * N + a) * N + b] = pattern_.block_index(cells(e, a), cells(e, b));
   }

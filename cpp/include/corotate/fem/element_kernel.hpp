@@ -24,9 +24,16 @@
 //                                                             (a rotation); per-element state
 //                                                             that only speeds up the next
 //                                                             frame() (a warm start)
-//   Kernel(const Material&, const ModelOptions&);             validates what it uses
-//   Element precompute(const NodeMatrix& X, Index e) const;   from the rest shape X (3 x N);
-//                                                             throws InvalidInput naming e
+//   Kernel(const RegionMaterials&, const ModelOptions&);      the materials (validated) of
+//                                                             the body's regions; derives
+//                                                             what it uses of each
+//   Element precompute(const NodeMatrix& X, Index e,          from the rest shape X (3 x N)
+//                      int region) const;                     and the material of the region;
+//                                                             throws InvalidInput naming e.
+//                                                             Material constants go into the
+//                                                             Element (K_e, the law), so the
+//                                                             per-step code is the same for
+//                                                             one material or many
 //   Frame frame(const Element&, const NodeMatrix& x, Cache&) const;
 //   static constexpr int frame_batch;                         optional, default 1: > 1 when
 //   void frames(const Element*, const NodeMatrix* x,          frames() computes up to this many
@@ -74,7 +81,7 @@
 #include <utility>
 
 #include "corotate/elements/element_geometry.hpp"
-#include "corotate/material.hpp"
+#include "corotate/region_materials.hpp"
 
 namespace corotate {
 

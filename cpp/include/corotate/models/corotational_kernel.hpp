@@ -68,10 +68,10 @@ class CorotationalKernel {
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  // warm start of the extraction
   };
 
-  CorotationalKernel(const Material& material, const ModelOptions&) : material_(material) {}
+  CorotationalKernel(const RegionMaterials& materials, const ModelOptions&) : materials_(materials.materials) {}
 
-  Element precompute(const NodeMatrix& X, Index e) const {
-    return {linear_stiffness<E>(quadrature_points<E>(X, e, 1.0), material_), X, centre_gradient<E>(X, e)};
+  Element precompute(const NodeMatrix& X, Index e, int region) const {
+    return {linear_stiffness<E>(quadrature_points<E>(X, e, 1.0), materials_[region]), X, centre_gradient<E>(X, e)};
   }
   double volume_ratio(const Element& el, const Frame&, const NodeMatrix& x) const {
     return Mat3(x * el.G).determinant();
@@ -119,7 +119,7 @@ class CorotationalKernel {
   }
 
  private:
-  Material material_;
+  std::vector<Material> materials_;  // by region
 };
 
 }  // namespace corotate

@@ -13,11 +13,14 @@ namespace corotate {
 constexpr int kTetBatch = 16;
 
 // The constants of one batch, packed once when the model is built (so that the sweep reads
-// them as they are, instead of transposing them from the elements every step): G = dN/dX
-// and the volume, lane b for element b (lanes past the batch's count repeat its first).
+// them as they are, instead of transposing them from the elements every step): G = dN/dX,
+// the volume and the Lame parameters of the element's material, lane b for element b (lanes
+// past the batch's count repeat its first).
 struct TetBatchElements {
   alignas(64) double G[4][3][kTetBatch];  // G[a][k][b] = dN_a/dX_k of element b
   alignas(64) double volume[kTetBatch];
+  alignas(64) double lambda[kTetBatch];
+  alignas(64) double mu[kTetBatch];
 };
 
 // The inputs of one batch: its constants, R the element rotation, y the positions the force
@@ -36,8 +39,8 @@ void gather_tet_batch(const TetBatchElements& elements, const double* x, const d
 
 // Fills out's forces f_a = -V R sigma(sym(R^T y G) - I) G_a, the upper stiffness blocks
 // scale V (lambda a_i a_j^T + mu a_j a_i^T + mu (a_i . a_j) I), a = R G^T, the energy
-// V/2 strain : sigma(strain) with strain = sym(R^T F) - I, and det F, of all kTetBatch lanes.
-void corotational_tet_batch(const TetBatchInput& in, double lambda, double mu, double scale,
-                            ForceStiffnessBatch<4, kTetBatch>& out);
+// V/2 strain : sigma(strain) with strain = sym(R^T F) - I, and det F, of all kTetBatch lanes
+// (lambda, mu: each lane's own, from in.elements).
+void corotational_tet_batch(const TetBatchInput& in, double scale, ForceStiffnessBatch<4, kTetBatch>& out);
 
 }  // namespace corotate

@@ -4,7 +4,12 @@
 // and the force is f_a = -V R sigma dN_a/dX with sigma the linear stress of the unrotated
 // strain sym(R^T F) - I: identical to R K_e R^T and eq. (3), at a fraction of the memory
 // traffic. Its tangent is exact (the derivative of the polar rotation included).
+// Each element keeps its own lambda and mu (of its region's material), so a body of several
+// materials runs the same code as a body of one.
 #pragma once
+
+#include <utility>
+#include <vector>
 
 #include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
 #include "corotate/models/corotational_kernel.hpp"
@@ -26,6 +31,7 @@ class CorotationalKernel<Tet4> {
   struct Element {
     Eigen::Matrix<double, 4, 3> G;  // dN/dX, constant on the tet
     double volume;
+    double lambda, mu;  // Lame parameters of the element's material
   };
   struct Frame {
     Mat3 R;
@@ -35,12 +41,13 @@ class CorotationalKernel<Tet4> {
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
   };
 
-  CorotationalKernel(const Material& material, const ModelOptions&)
-      : lambda_(material.lame_lambda()), mu_(material.lame_mu()) {}
+  CorotationalKernel(const RegionMaterials& materials, const ModelOptions&) {
+    for (const Material& m : materials.materials) moduli_.emplace_back(m.lame_lambda(), m.lame_mu());
+  }
 
-  Element precompute(const NodeMatrix& X, Index e) const {
+  Element precompute(const NodeMatrix& X, Index e, int region) const {
     const QuadraturePoints<Tet4> p = quadrature_points<Tet4>(X, e, 1.0);  // one point: the centre
-    return {p[0].G, p[0].w};
+    return {p[0].G, p[0].w, moduli_[region].first, moduli_[region].second};
   }
   double volume_ratio(const Element&, const Frame& fr, const NodeMatrix&) const { return fr.F.determinant(); }
   Frame frame(const Element& el, const NodeMatrix& x, Cache& cache) const {
@@ -72,6 +79,8 @@ class CorotationalKernel<Tet4> {
       for (int n = 0; n < 4; ++n)
         for (int i = 0; i < 3; ++i) out.G[n][i][b] = el[k].G(n, i);
       out.volume[b] = el[k].volume;
+      out.lambda[b] = el[k].lambda;
+      out.mu[b] = el[k].mu;
     }
     return out;
   }
@@ -93,16 +102,16 @@ class CorotationalKernel<Tet4> {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         for (int b = count; b < frame_batch; ++b) in.R[i][j][b] = in.R[i][j][0];
-    corotational_tet_batch(in, lambda_, mu_, scale, out);
+    corotational_tet_batch(in, scale, out);
   }
   double energy(const Element& el, const Frame& fr, const NodeMatrix&) const {  // at the frame's positions
     Mat3 strain = fr.R.transpose() * fr.F;
     strain = 0.5 * (strain + strain.transpose()).eval();
     strain.diagonal().array() -= 1.0;
-    return 0.5 * el.volume * strain.cwiseProduct(stress(strain)).sum();
+    return 0.5 * el.volume * strain.cwiseProduct(stress(el, strain)).sum();
   }
   void forces(const Element& el, const Frame& fr, const NodeMatrix& x, NodeMatrix& f) const {
-    const Mat3 P = el.volume * fr.R * stress(unrotated_strain(el, fr.R, x));  // f_a = -P dN_a/dX
+    const Mat3 P = el.volume * fr.R * stress(el, unrotated_strain(el, fr.R, x));  // f_a = -P dN_a/dX
     f.noalias() = -P * el.G.transpose();
   }
   template <class Sink>
@@ -111,8 +120,8 @@ class CorotationalKernel<Tet4> {
     const double v = el.volume;
     for (int i = 0; i < 4; ++i)
       for (int j = i; j < 4; ++j) {
-        Mat3 block = (v * lambda_) * a.col(i) * a.col(j).transpose() + (v * mu_) * a.col(j) * a.col(i).transpose();
-        block.diagonal().array() += v * mu_ * a.col(i).dot(a.col(j));
+        Mat3 block = (v * el.lambda) * a.col(i) * a.col(j).transpose() + (v * el.mu) * a.col(j) * a.col(i).transpose();
+        block.diagonal().array() += v * el.mu * a.col(i).dot(a.col(j));
         K.add(i, j, block);
       }
   }
@@ -133,20 +142,21 @@ class CorotationalKernel<Tet4> {
     if (!polar_rotation_derivative(R, Mat3(x * el.G), S, H_inv)) return false;
     Mat3 strain = S;
     strain.diagonal().array() -= 1.0;
-    const Mat3 sigma = stress(strain);
+    const Mat3 sigma = stress(el, strain);
+    const double lambda = el.lambda, mu = el.mu;
     const double v = el.volume;
     Mat3 A[4], N[4];
     for (int c = 0; c < 4; ++c) {
       const Vec3 g = el.G.row(c).transpose();
       A[c] = H_inv * cross_matrix(g);
-      N[c] = mu_ * (cross_matrix(S * g) - S * cross_matrix(g)) - cross_matrix(sigma * g);
+      N[c] = mu * (cross_matrix(S * g) - S * cross_matrix(g)) - cross_matrix(sigma * g);
     }
     for (int a = 0; a < 4; ++a) {
       const Vec3 ga = el.G.row(a).transpose();
       for (int b = a; b < 4; ++b) {
         const Vec3 gb = el.G.row(b).transpose();
-        Mat3 local = N[a] * A[b] + mu_ * gb * ga.transpose() + lambda_ * ga * gb.transpose();
-        local.diagonal().array() += mu_ * ga.dot(gb);
+        Mat3 local = N[a] * A[b] + mu * gb * ga.transpose() + lambda * ga * gb.transpose();
+        local.diagonal().array() += mu * ga.dot(gb);
         K.block<3, 3>(3 * a, 3 * b).noalias() = (v * R) * local * R.transpose();
       }
     }
@@ -161,13 +171,13 @@ class CorotationalKernel<Tet4> {
     strain.diagonal().array() -= 1.0;
     return strain;
   }
-  Mat3 stress(const Mat3& strain) const {
-    Mat3 s = (2 * mu_) * strain;
-    s.diagonal().array() += lambda_ * strain.trace();
+  static Mat3 stress(const Element& el, const Mat3& strain) {
+    Mat3 s = (2 * el.mu) * strain;
+    s.diagonal().array() += el.lambda * strain.trace();
     return s;
   }
 
-  double lambda_, mu_;
+  std::vector<std::pair<double, double>> moduli_;  // (lambda, mu) by region
 };
 
 }  // namespace corotate

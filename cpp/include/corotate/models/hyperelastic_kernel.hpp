@@ -1,6 +1,7 @@
 // Total-Lagrangian hyperelastic FEM with a constitutive law Law (StVK, StableNeoHookean,
-// FixedCorotated; see corotate/materials/) on any element type: solids (Tet4, Hex8, Hex20)
-// and membranes (Tri3).
+// FixedCorotated, MooneyRivlin, ...; see corotate/materials/) on any element type: solids
+// (Tet4, Hex8, Hex20) and membranes (Tri3). Each element keeps its law object, made from
+// its region's material (law_parameters.hpp).
 //
 // Energy  E(x) = sum_e sum_q w_q W(F_q),   F_q = x_e G_q,  G_q = dN/dX at point q,
 // forces  f = -dE/dx,  stiffness  K = d2E/dx2 (exact, symmetric; so tangent = stiffness).
@@ -20,8 +21,10 @@
 #include <limits>
 #include <sstream>
 #include <type_traits>
+#include <vector>
 
 #include "corotate/fem/element_kernel.hpp"
+#include "corotate/materials/law_parameters.hpp"
 #include "corotate/materials/stvk.hpp"
 #include "corotate/models/hyperelastic_point.hpp"
 
@@ -43,18 +46,18 @@ class HyperelasticKernel {
   static constexpr bool has_geometric_stiffness = true;
   struct Element {
     QuadraturePoints<E> points;
+    Law law;  // of the element's material
   };
   using Frame = NoFrame;
   using Cache = NoCache;
 
-  HyperelasticKernel(const Material& m, const ModelOptions& options)
-      : law_{D == 2 ? 2 * m.lame_lambda() * m.lame_mu() / (m.lame_lambda() + 2 * m.lame_mu()) : m.lame_lambda(),
-             m.lame_mu()},
-        thickness_(options.thickness) {}
+  HyperelasticKernel(const RegionMaterials& materials, const ModelOptions& options) : thickness_(options.thickness) {
+    for (const Material& m : materials.materials) laws_.push_back(law_of_material<Law>(m, D == 2));
+  }
 
-  const Law& law() const { return law_; }
-
-  Element precompute(const NodeMatrix& X, Index e) const { return {quadrature_points<E>(X, e, thickness_)}; }
+  Element precompute(const NodeMatrix& X, Index e, int region) const {
+    return {quadrature_points<E>(X, e, thickness_), laws_[region]};
+  }
   Frame frame(const Element&, const NodeMatrix&, Cache&) const { return {}; }
   double volume_ratio(const Element& el, const Frame&, const NodeMatrix& x) const {
     if constexpr (D == 2) {
@@ -67,17 +70,17 @@ class HyperelasticKernel {
   }
   double energy(const Element& el, const Frame&, const NodeMatrix& x) const {
     double total = 0;
-    for (const auto& p : el.points) total += p.w * law_.energy(Deformation(x * p.G));
+    for (const auto& p : el.points) total += p.w * el.law.energy(Deformation(x * p.G));
     return total;
   }
   void forces(const Element& el, const Frame&, const NodeMatrix& x, NodeMatrix& f) const {
     f.setZero();
-    for (const auto& p : el.points) add_point_forces<Law, N, D>(law_, Deformation(x * p.G), p.G, p.w, f);
+    for (const auto& p : el.points) add_point_forces<Law, N, D>(el.law, Deformation(x * p.G), p.G, p.w, f);
   }
   template <class Sink>
   void stiffness(const Element& el, const Frame&, const NodeMatrix& x, Sink& sink) const {
     Stiffness K = Stiffness::Zero();
-    for (const auto& p : el.points) add_point_stiffness<Law, N, D>(law_, Deformation(x * p.G), p.G, p.w, K);
+    for (const auto& p : el.points) add_point_stiffness<Law, N, D>(el.law, Deformation(x * p.G), p.G, p.w, K);
     for (int a = 0; a < N; ++a)
       for (int b = a; b < N; ++b) sink.add(a, b, K.template block<3, 3>(3 * a, 3 * b));
   }
@@ -91,7 +94,7 @@ class HyperelasticKernel {
       const Deformation F = x * p.G;
       Eigen::Matrix<double, D, D> S;
       if constexpr (std::is_same_v<Law, StVK>) {
-        S = law_.second_piola(F);
+        S = el.law.second_piola(F);
       } else if constexpr (D == 3) {
         const double J = F.determinant();
         if (!(J > 0)) {
@@ -100,7 +103,7 @@ class HyperelasticKernel {
               << "), so its second Piola-Kirchhoff stress, and the geometric stiffness, are undefined";
           throw InvalidInput(msg.str());
         }
-        S = F.inverse() * law_.stress(F);
+        S = F.inverse() * el.law.stress(F);
         S = 0.5 * (S + S.transpose()).eval();  // symmetric in exact arithmetic
       } else {
         throw InvalidInput(std::string("the geometric stiffness of '") + Law::name + "' membranes is not available");
@@ -110,7 +113,7 @@ class HyperelasticKernel {
   }
 
  private:
-  Law law_;
+  std::vector<Law> laws_;  // by region
   double thickness_;
 };
 

@@ -25,9 +25,9 @@ class LinearKernel {
   using Frame = NoFrame;
   using Cache = NoCache;
 
-  LinearKernel(const Material& material, const ModelOptions&) : material_(material) {}
-  Element precompute(const NodeMatrix& X, Index e) const {
-    return {linear_stiffness<E>(quadrature_points<E>(X, e, 1.0), material_)};
+  LinearKernel(const RegionMaterials& materials, const ModelOptions&) : materials_(materials.materials) {}
+  Element precompute(const NodeMatrix& X, Index e, int region) const {
+    return {linear_stiffness<E>(quadrature_points<E>(X, e, 1.0), materials_[region])};
   }
   template <class Sink>
   void stiffness(const Element& el, const Frame&, const NodeMatrix&, Sink& K) const {
@@ -36,7 +36,7 @@ class LinearKernel {
   }
 
  private:
-  Material material_;
+  std::vector<Material> materials_;  // by region
 };
 
 }  // namespace corotate

@@ -14,11 +14,12 @@ namespace corotate {
 
 // model: "linear", "corotational" (co-rotated linear FEM, the paper's model), or a
 // hyperelastic law: "stvk" (St. Venant-Kirchhoff), "neohookean" (stable Neo-Hookean),
-// "fixed_corotated" (Stomakhin's fixed co-rotated law), "neohookean_log"; cell_type: a registered
-// solid (every model) or membrane ("stvk" only) cell type (elements/element_list.hpp, VTK/meshio
-// names). rest: 3 x n; cells: m x k node indices. Throws InvalidInput naming what is wrong.
+// "fixed_corotated" (Stomakhin's fixed co-rotated law), "neohookean_log", "mooney_rivlin"; cell_type: a
+// registered solid (every model) or membrane ("stvk" only) cell type (elements/element_list.hpp,
+// VTK/meshio names). rest: 3 x n; cells: m x k node indices; materials: a Material, or one per
+// region with each cell's region (region_materials.hpp). Throws InvalidInput naming what is wrong.
 std::unique_ptr<ForceModel> make_model(const std::string& model, const std::string& cell_type, const Nodes& rest,
-                                       const Connectivity& cells, const Material& material,
+                                       const Connectivity& cells, const RegionMaterials& materials,
                                        const ModelOptions& options = ModelOptions());
 
 std::vector<std::string> model_names();      // every model name make_model accepts
