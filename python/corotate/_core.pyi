@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'solve_linear', 'springs_from_mesh', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -594,7 +594,19 @@ def available_threads() -> int:
     """
 def cell_type_names() -> list[str]:
     """
-    Every supported cell type (meshio names).
+    Every supported cell type (meshio names), solids first.
+    """
+def cell_types() -> list:
+    """
+    The cell-type table: for every registered element a dict of name (meshio), generator_name, domain ('simplex' or 'cube'), dim, order, num_nodes, num_corners, num_stiffness_points, reference_nodes (k, dim), edges (ne, 2) corner pairs (a quadratic element's node num_corners + i sits on edge i), faces (nf, c) corner nodes of each boundary face counter-clockwise seen from outside (none for membranes), mirror (k,) the renumbering that turns a cell inside out, models (the force models available).
+    """
+def cell_volumes(cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Signed volume of every cell (m,), by the element's own quadrature of det(dX/dxi): exact for straight and curved cells; negative for a mirrored cell. Membranes: the areas.
+    """
+def centre_gradients(cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    """
+    Shape-function gradients dN_a/dX at every cell's centre, (m * k, 3): rows e * k + a (F = x_e G there). Degenerate or inverted cells are rejected by index.
     """
 def cloth_grid(nx: typing.SupportsInt | typing.SupportsIndex, ny: typing.SupportsInt | typing.SupportsIndex, width: typing.SupportsFloat | typing.SupportsIndex, height: typing.SupportsFloat | typing.SupportsIndex, youngs_modulus: typing.SupportsFloat | typing.SupportsIndex, thickness: typing.SupportsFloat | typing.SupportsIndex, density: typing.SupportsFloat | typing.SupportsIndex, bending: typing.SupportsFloat | typing.SupportsIndex, beta: typing.SupportsFloat | typing.SupportsIndex) -> dict:
     ...
@@ -680,6 +692,10 @@ def set_threads(n: typing.SupportsInt | typing.SupportsIndex) -> None:
     """
     Threads of the element sweeps, matrix-vector products and smoother (process-wide; 1 by default).
     """
+def shape_functions(cell_type: str, xi: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> tuple:
+    """
+    (values (q, k), gradients (q * k, 3)) of the shape functions of a solid cell type at reference points xi (q, 3); gradient rows q * k + a hold dN_a/dxi at point q.
+    """
 def solve_linear(A: BlockSparseMatrix, b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None, solver: str = 'pcg', pcg: PCGSettings = ..., geometry: typing.Annotated[numpy.typing.ArrayLike, numpy.float64] | None = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], dict]:
     """
     Solve A x = b (A symmetric) with 'pcg' (settings pcg, initial guess x0) or 'direct'. geometry: (n, 3) node
@@ -687,6 +703,10 @@ def solve_linear(A: BlockSparseMatrix, b: typing.Annotated[numpy.typing.ArrayLik
     """
 def springs_from_mesh(points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], cell_type: str, youngs_modulus: typing.SupportsFloat | typing.SupportsIndex, density: typing.SupportsFloat | typing.SupportsIndex, beta: typing.SupportsFloat | typing.SupportsIndex, diagonals: bool) -> dict:
     ...
+def structured_box(element: str, cells: typing.Annotated[collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], "FixedSize(3)"], size: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], origin: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 3]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], str]:
+    """
+    (points (n, 3), cells (m, k), cell_type) of the structured mesh of the box [origin, origin + size] with cells (nx, ny, nz) cuboids of the solid element named by its generator name (see meshes/structured_box.hpp).
+    """
 def threads() -> int:
     """
     The thread count set by set_threads.
