@@ -148,10 +148,11 @@ def test_an_unheld_body_is_refused(cantilever):
 
 def test_a_tet10_body_reduces_to_the_same_first_frequency():
     # Modal reduction needs nothing of the element: a Tet10 cantilever (10 x 1 x 1 cuboids,
-    # comparable to the Hex20 one above) has the Timoshenko beam's first bending frequency.
+    # comparable to the Hex20 one above) has the Timoshenko beam's first bending frequency
+    # (measured +0.09 %).
     mesh = cr.beam(L, B, H, cells=(10, 1, 1), element="tet10")
     body = cr.Body(mesh, cr.Material(E=E, nu=NU, density=RHO), model="linear")
     basis = craig_bampton(body, mesh.nodes_on_plane("x", 0.0), n_modes=4)
     f_eb = 1.8751040687119611**2 / (2 * np.pi) * np.sqrt(E * B * H**3 / 12 / (RHO * B * H * L**4))
     f_timo = timoshenko_first_frequency(E, NU, RHO, L, B, H, f_eb)
-    assert basis.frequencies[0] == pytest.approx(f_timo, rel=0.005)
+    assert basis.frequencies[0] == pytest.approx(f_timo, rel=0.002)
