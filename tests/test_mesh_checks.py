@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import corotate as cr
+from corotate.mesh import SOLID_ELEMENTS
 from corotate.mesh_checks import drop_duplicate_cells, duplicate_cells, merge_coincident_nodes
 
 BOX = cr.box((1.0, 1.0, 1.0), (2, 2, 2))  # 48 tets, 1 m3
@@ -116,7 +117,7 @@ def test_a_cell_naming_a_node_twice_is_an_error():
         cr.Mesh(BOX.points, np.concatenate([BOX.cells[:1], [[0, 1, 1, 2]]]))
 
 
-@pytest.mark.parametrize("element", ["tet4", "hex8", "hex20"])
+@pytest.mark.parametrize("element", SOLID_ELEMENTS)
 def test_valid_meshes_pass_including_distorted_hexes(element):
     mesh = cr.box((1.0, 2.0, 1.5), (3, 2, 2), element)
     rng = np.random.default_rng(0)

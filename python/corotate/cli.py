@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from . import __version__
-from .mesh import VOLUME_CELL_TYPES, Mesh, read_mesh
+from .mesh import SOLID_ELEMENTS, VOLUME_CELL_TYPES, Mesh, read_mesh
 
 
 def _demo_simulation(args: argparse.Namespace) -> tuple[Any, Any, np.ndarray, np.ndarray, int]:
@@ -237,9 +237,7 @@ def _add_body_arguments(demo: argparse.ArgumentParser) -> None:
         "--cells", type=int, default=4, help="beam cross-section cells (beam: 5c x c x c cubes; default 4)"
     )
     demo.add_argument("--length", type=float, default=5.0, help="beam length in m (default 5)")
-    demo.add_argument(
-        "--element", default="tet4", choices=["tet4", "hex8", "hex20"], help="beam element (default tet4)"
-    )
+    demo.add_argument("--element", default="tet4", choices=SOLID_ELEMENTS, help="beam element (default tet4)")
     demo.add_argument("--model", default="corotational", choices=["corotational", "linear"], help="force model")
     demo.add_argument(
         "--gravity",
