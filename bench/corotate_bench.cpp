@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "beam_scenario.hpp"
+#include "corotate/build_info.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/parallel.hpp"
 #include "corotate/simulation.hpp"
@@ -291,6 +292,7 @@ int main(int argc, char** argv) {
         "scenario: corotational %s, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
         opt.element.c_str(), opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
         opt.checks ? "loud-failure checks" : "no checks", num_threads());
+    std::printf("instruction set of the hot loops: %s\n", build_info().instruction_set.c_str());
     std::printf("direct solver (config 'direct'): %s (auto: CHOLMOD%s from %ld DOFs); two-level coarse solver: %s\n",
                 DirectSolver(opt.direct).backend_name(), SparseCholesky::have_cholmod() ? "" : " (not built)",
                 long(SparseCholesky::kCholmodFromDofs), SparseCholesky::have_cholmod() ? "cholmod" : "eigen");

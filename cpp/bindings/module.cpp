@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "conversions.hpp"
+#include "corotate/build_info.hpp"
 #include "corotate/elements/element_matrices.hpp"
 #include "corotate/integrators/integrator.hpp"
 #include "corotate/models/model_factory.hpp"
@@ -103,6 +104,19 @@ PYBIND11_MODULE(_core, m) {
   m.def("threads", &num_threads, "The thread count set by set_threads.");
   m.def("available_threads", &available_threads, "Threads the hardware offers (1 without OpenMP).");
   m.def("have_openmp", &have_openmp, "Whether the core was built with OpenMP (else it runs on one thread).");
+  m.def(
+      "build_info",
+      [] {
+        const BuildInfo info = build_info();
+        py::dict d;
+        d["cholmod"] = info.cholmod;
+        d["openmp"] = info.openmp;
+        d["cpu_clones"] = info.cpu_clones;
+        d["instruction_set"] = info.instruction_set;
+        return d;
+      },
+      "What this build has: cholmod (SuiteSparse direct solves, else Eigen's), openmp (threads), cpu_clones "
+      "(hot loops compiled for several instruction sets) and instruction_set (the one they run at on this CPU).");
   m.def("on_unstable_names", &on_unstable_names);
 
   py::class_<Material>(m, "Material")

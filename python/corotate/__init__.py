@@ -17,6 +17,7 @@ from __future__ import annotations
 import corotate._core as _core
 
 from .body import Body
+from .build import build_info
 from .driven_body import SimulationWarning
 from .embedding import EmbeddedSurface, read_surface
 from .explicit import ExplicitSimulation
@@ -63,6 +64,7 @@ __all__ = [
     "threads",
     "available_threads",
     "have_openmp",
+    "build_info",
     "ParameterTable",
     "run_sweep",
     "open_sweep",

@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -591,6 +591,10 @@ class MassSpring(ForceModel):
 def available_threads() -> int:
     """
     Threads the hardware offers (1 without OpenMP).
+    """
+def build_info() -> dict:
+    """
+    What this build has: cholmod (SuiteSparse direct solves, else Eigen's), openmp (threads), cpu_clones (hot loops compiled for several instruction sets) and instruction_set (the one they run at on this CPU).
     """
 def cell_type_names() -> list[str]:
     """

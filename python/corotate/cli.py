@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from . import __version__
+from .build import describe_build
 from .mesh import SOLID_ELEMENTS, VOLUME_CELL_TYPES, Mesh, read_mesh
 
 
@@ -180,7 +180,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="corotate", description="Fast co-rotational FEM simulation of elastic solids."
     )
-    parser.add_argument("--version", action="version", version=f"corotate {__version__}")
+    parser.add_argument("--version", action="version", version=describe_build())
     sub = parser.add_subparsers(dest="command", required=True)
 
     demo = sub.add_parser(

@@ -12,8 +12,10 @@
 #if defined(__x86_64__) && defined(__linux__) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12 && \
     !defined(COROTATE_NO_CPU_CLONES)
 #define COROTATE_CPU_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#define COROTATE_HAVE_CPU_CLONES 1
 #else
 #define COROTATE_CPU_CLONES
+#define COROTATE_HAVE_CPU_CLONES 0
 #endif
 
 // For what a cloned function calls: inlined into each clone, so it is compiled for the
