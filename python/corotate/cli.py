@@ -21,7 +21,7 @@ from .mesh import SOLID_ELEMENTS, VOLUME_CELL_TYPES, Mesh, read_mesh
 def _demo_simulation(args: argparse.Namespace) -> tuple[Any, Any, np.ndarray, np.ndarray, int]:
     """The body of ``demo`` and ``view`` from their shared options: (mesh, simulation, fixed
     nodes, gravity, clamped axis)."""
-    from . import PCG, Body, Material, Simulation, beam, read_mesh
+    from . import PCG, Body, Material, Simulation, beam
 
     if args.mesh:
         mesh = read_mesh(args.mesh)
