@@ -233,6 +233,7 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
   const double time_before = time_;
   const SimulationStats stats_before = stats_;
   integrator_->save_state();
+  if (solver_) solver_->save_state();
   model_->save_caches();
   energy_check_backup_ = static_cast<const EnergyBaseline&>(energy_check_);  // its scalars
   energy_check_took_load_ = false;
@@ -288,6 +289,7 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
     time_ = time_before;
     stats_ = stats_before;
     integrator_->restore_state();
+    if (solver_) solver_->restore_state();
     model_->restore_caches();
     static_cast<EnergyBaseline&>(energy_check_) = energy_check_backup_;
     if (energy_check_took_load_) energy_check_.valid = false;

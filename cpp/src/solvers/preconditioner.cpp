@@ -71,11 +71,36 @@ void ReferenceFactorPreconditioner::turn(Index num_nodes, bool rebuilding) {
   positions_pending_ = false;
 }
 
+void ReferenceFactorPreconditioner::save_state() {
+  saved_.refresh = refresh_;
+  saved_.factorizations = factorizations_;
+  saved_.factor_replaced = false;
+  saved_.factor = BlockCholesky();  // (a factor replaced in the last call, no longer needed)
+  rotations_.save_state();
+}
+
+void ReferenceFactorPreconditioner::restore_state() {
+  if (saved_.factor_replaced) {
+    factor_ = std::move(saved_.factor);
+    rotations_ = std::move(saved_.rotations);
+    saved_.factor_replaced = false;
+  }
+  rotations_.restore_state();
+  refresh_ = saved_.refresh;
+  factorizations_ = saved_.factorizations;
+}
+
 void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
   if (factor_.empty() || refresh_) {
     turn(A.num_nodes(), true);  // (the rotations are built afresh below)
     refresh_ = false;
+    if (!saved_.factor_replaced) {  // the first replacement since save_state: keep the old
+      saved_.factor = std::move(factor_);
+      saved_.rotations = std::move(rotations_);
+      saved_.factor_replaced = true;
+    }
     factor_ = BlockCholesky();
+    rotations_ = NodeRotations();
     factor_.factorize(A);  // throws NotPositiveDefinite for an indefinite matrix
     ++factorizations_;
     // Built at the positions A was assembled at: rotations are measured from there.

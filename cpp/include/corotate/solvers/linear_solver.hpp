@@ -56,6 +56,11 @@ class LinearSolver {
   virtual SolveStats solve_single_precision(const Vec& /*b*/, Vec& /*x*/) {
     throw InvalidInput("this solver takes no float32 system");
   }
+  // Simulation::step keeps what the solves of a call change and would make the next call's
+  // answers differ (a preconditioner's rotation warm starts, a factor refreshed), and
+  // restores it when the call fails: the state is then that of a twin that never made it.
+  virtual void save_state() {}
+  virtual void restore_state() {}
 };
 
 }  // namespace corotate

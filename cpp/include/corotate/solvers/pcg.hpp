@@ -61,6 +61,8 @@ class PCG final : public LinearSolver {
   SolveStats solve_single_precision(const Vec& b, Vec& x) override;
   // CG reads A through multiply_symmetric only: the preconditioner decides.
   bool needs_lower_blocks() const override { return preconditioner_->needs_lower_blocks(); }
+  void save_state() override { preconditioner_->save_state(); }
+  void restore_state() override { preconditioner_->restore_state(); }
 
  private:
   PCGSettings settings_;

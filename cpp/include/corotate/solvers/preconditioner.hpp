@@ -49,6 +49,9 @@ class Preconditioner {
   // leaves behind is high-frequency and moves the body little: its default is looser
   // (bench/README.md, "fourth round").
   virtual double default_tolerance() const { return 1e-2; }
+  // LinearSolver::save_state and restore_state, for what apply() depends on.
+  virtual void save_state() {}
+  virtual void restore_state() {}
 };
 
 // No preconditioning (plain CG): z = r.
@@ -125,9 +128,20 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   void compute_assembled() override;
   // Factorizations so far (the first and every refresh).
   int factorizations() const { return factorizations_; }
+  // The rotations' warm starts are copied; a factor refreshed since save_state is moved
+  // aside (with the rotations built for it) rather than copied at every call.
+  void save_state() override;
+  void restore_state() override;
 
  private:
   BlockCholesky factor_;
+  struct Saved {
+    bool refresh = false;
+    int factorizations = 0;
+    bool factor_replaced = false;  // factor and rotations below hold the saved ones
+    BlockCholesky factor;
+    NodeRotations rotations;
+  } saved_;
   bool refresh_ = false;
   int factorizations_ = 0;
   NodeRotations rotations_;  // empty until positions arrive at the build
@@ -184,9 +198,19 @@ class AutoPreconditioner final : public Preconditioner {
   }
   // ReferenceFactor or TwoLevel once a system was seen; Auto before.
   PreconditionerKind chosen() const { return kind_; }
+  // A choice made in the failed call is undone (made again, the same, by the next).
+  void save_state() override {
+    chosen_at_save_ = chosen_ != nullptr;
+    if (chosen_) chosen_->save_state();
+  }
+  void restore_state() override {
+    if (!chosen_at_save_) reset();
+    else chosen_->restore_state();
+  }
 
  private:
   std::unique_ptr<Preconditioner> chosen_;
+  bool chosen_at_save_ = false;
   PreconditionerKind kind_ = PreconditionerKind::Auto;
   Nodes rest_, positions_;  // passed on to the one chosen
   bool single_ = true;

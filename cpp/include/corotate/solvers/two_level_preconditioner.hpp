@@ -63,6 +63,9 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // Each aggregate's rotation from the configuration the hierarchy was built at (identities
   // until positions arrive after the build).
   const AggregateRotations& rotations() const { return rotations_; }
+  // The hierarchy is built once; only the aggregates' rotations change from step to step.
+  void save_state() override { rotations_.save_state(); }
+  void restore_state() override { rotations_.restore_state(); }
 
  private:
   using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
@@ -84,7 +87,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // CHOLMOD when built with it, at any size: the factor is computed once and solved at every
   // application, and the supernodal solve is the faster one (bench/README.md).
   SparseCholesky coarse_factor_{SparseCholesky::have_cholmod() ? SparseCholesky::Backend::Cholmod
-                                                               : SparseCholesky::Backend::Eigen};
+                                                               : SparseCholesky::Backend::Supernodal};
   Vec coarse_rhs_, coarse_solution_, turned_;
   // The cycle's iterate and its product, four entries per node, in float32 for the float32
   // product (the iterate itself is kept in double in z).
