@@ -193,8 +193,9 @@ void usage() {
       "  --write-mesh FILE   write the (first) beam's mesh as text (n m k, points, cells, cell type) and stop\n"
       "  --no-checks         skip the loud-failure checks (failure policy ignore; default: warn)\n"
       "  --threads N         threads of the element sweep, SpMV and smoother (default 1; OpenMP)\n"
-      "  --direct B          the 'direct' configuration's Cholesky: eigen or cholmod (default: cholmod when\n"
-      "                      built with SuiteSparse; the two-level coarse solve always uses the default)\n"
+      "  --direct B          the 'direct' configuration's Cholesky: eigen, cholmod or supernodal (default:\n"
+      "                      cholmod when built with SuiteSparse, else supernodal; the two-level coarse\n"
+      "                      solve always uses the default)\n"
       "  --no-reference      skip the converged reference run (timings only; dev[%] prints nan)\n"
       "  --trace             print one line per step of every run: tip, total energy, iterations,\n"
       "                      relative residual, and the loud-failure flags (energy: elastic energy at\n"
@@ -266,8 +267,10 @@ int main(int argc, char** argv) {
       else if (arg == "--no-reference") opt.reference = false;
       else if (arg == "--direct") {
         const std::string name = value();
-        if (name != "eigen" && name != "cholmod") throw InvalidInput("--direct takes eigen or cholmod");
-        opt.direct = name == "eigen" ? SparseCholesky::Backend::Eigen : SparseCholesky::Backend::Cholmod;
+        if (name == "eigen") opt.direct = SparseCholesky::Backend::Eigen;
+        else if (name == "cholmod") opt.direct = SparseCholesky::Backend::Cholmod;
+        else if (name == "supernodal") opt.direct = SparseCholesky::Backend::Supernodal;
+        else throw InvalidInput("--direct takes eigen, cholmod or supernodal");
       } else if (arg == "--threads") set_num_threads(std::stoi(value()));
       else if (arg == "--preconditioner") opt.custom.preconditioner = preconditioner_kind_from_name(value());
       else if (arg == "--tolerance") opt.custom.tolerance = std::stod(value());
@@ -293,9 +296,9 @@ int main(int argc, char** argv) {
         opt.element.c_str(), opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
         opt.checks ? "loud-failure checks" : "no checks", num_threads());
     std::printf("instruction set of the hot loops: %s\n", build_info().instruction_set.c_str());
-    std::printf("direct solver (config 'direct'): %s (auto: CHOLMOD%s from %ld DOFs); two-level coarse solver: %s\n",
-                DirectSolver(opt.direct).backend_name(), SparseCholesky::have_cholmod() ? "" : " (not built)",
-                long(SparseCholesky::kCholmodFromDofs), SparseCholesky::have_cholmod() ? "cholmod" : "eigen");
+    std::printf("direct solver (config 'direct'): %s (auto: %s from %ld DOFs); two-level coarse solver: %s\n",
+                DirectSolver(opt.direct).backend_name(), SparseCholesky::have_cholmod() ? "CHOLMOD" : "supernodal",
+                long(SparseCholesky::kSupernodalFromDofs), SparseCholesky::have_cholmod() ? "cholmod" : "supernodal");
     std::printf("%-16s %7s %-16s %9s %9s %8s %7s %7s %7s %6s %8s %10s %8s %s\n", "mesh", "elems", "config", "precmp_ms",
                 "1st_step", "ms/step", "asm", "solve", "iters", "maxit", "rt_ratio", "tip_z[m]", "dev[%]",
                 "stalled/growth  B/elem");

@@ -1,6 +1,7 @@
-// The direct solver's two backends, SuiteSparse CHOLMOD (when the build found it) and Eigen's
-// SimplicialLDLT, solve the same systems to round-off (CHOLMOD's supernodal factor through
-// our own triangular sweeps), and both refuse an indefinite one; Auto picks by size.
+// The direct solver's three backends, SuiteSparse CHOLMOD (when the build found it), the
+// library's own supernodal factor and Eigen's SimplicialLDLT, solve the same systems to
+// round-off (the supernodal factors through our own triangular sweeps), and all refuse an
+// indefinite one; Auto picks by size and build.
 #include <algorithm>
 #include <cstdio>
 #include <vector>
@@ -8,23 +9,24 @@
 #include "corotate/parallel.hpp"
 #include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
+#include "corotate/solvers/supernodal_cholesky.hpp"
 #include "corotate/solvers/supernodal_solve.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
 
 using namespace corotate;
 
-TEST(auto_takes_cholmod_for_large_systems_only) {
-  // Below kCholmodFromDofs CHOLMOD's supernodes are too small for BLAS to pay (see
+TEST(auto_takes_a_supernodal_factor_for_large_systems_only) {
+  // Below kSupernodalFromDofs supernodes are too small for dense kernels to pay (see
   // sparse_cholesky.hpp): Eigen's SimplicialLDLT factorizes faster.
-  for (const Index n : {Index(300), SparseCholesky::kCholmodFromDofs}) {
+  for (const Index n : {Index(300), SparseCholesky::kSupernodalFromDofs}) {
     SparseCholesky::Matrix identity(n, n);
     identity.setIdentity();
     SparseCholesky automatic;
     CHECK(std::string(automatic.backend_name()) == "auto");
     automatic.analyze(identity);
-    const bool large = n >= SparseCholesky::kCholmodFromDofs && SparseCholesky::have_cholmod();
-    CHECK(std::string(automatic.backend_name()) == (large ? "cholmod" : "eigen"));
+    const std::string large = SparseCholesky::have_cholmod() ? "cholmod" : "supernodal";
+    CHECK(automatic.backend_name() == (n >= SparseCholesky::kSupernodalFromDofs ? large : std::string("eigen")));
     CHECK(automatic.factorize(identity));
     Vec x;
     automatic.solve(Vec::Ones(n), x);
@@ -32,58 +34,116 @@ TEST(auto_takes_cholmod_for_large_systems_only) {
   }
 }
 
-TEST(cholmod_and_eigen_direct_solves_agree) {
+namespace {
+
+std::vector<SparseCholesky::Backend> backends() {
+  std::vector<SparseCholesky::Backend> all{SparseCholesky::Backend::Eigen, SparseCholesky::Backend::Supernodal};
+  if (SparseCholesky::have_cholmod()) all.push_back(SparseCholesky::Backend::Cholmod);
+  return all;
+}
+
+}  // namespace
+
+TEST(every_direct_backend_solves_to_round_off_and_refuses_indefinite_systems) {
   if (!SparseCholesky::have_cholmod()) {
-    std::puts("  skipped: corotate was built without SuiteSparse CHOLMOD (apt-get install libsuitesparse-dev)");
+    std::puts("  CHOLMOD not built (apt-get install libsuitesparse-dev): checking the other two");
     CHECK_THROWS(SparseCholesky(SparseCholesky::Backend::Cholmod), InvalidInput);
-    return;
   }
   // A = M + dt^2 K of a 6 x 3 x 3 tet beam (no fixed nodes: M makes it definite).
   const auto system = fixtures::implicit_system(fixtures::tet_beam(6, 3, 3), Material{1e6, 0.3, 1000.0}, 1e-2);
   const Index n = system.A.num_dofs();
-  Vec b(n);
-  for (Index i = 0; i < n; ++i) b[i] = fixtures::uniform();
-  DirectSolver cholmod(SparseCholesky::Backend::Cholmod), eigen(SparseCholesky::Backend::Eigen);
-  CHECK(std::string(cholmod.backend_name()) == "cholmod" && std::string(eigen.backend_name()) == "eigen");
-  Vec x_cholmod, x_eigen;
-  for (int round = 0; round < 2; ++round) {  // the second reuses the symbolic analysis
-    const SolveStats s1 = cholmod.solve(system.A, b, x_cholmod);
-    const SolveStats s2 = eigen.solve(system.A, b, x_eigen);
-    CHECK(s1.relative_residual < 1e-13 && s2.relative_residual < 1e-13);
-    CHECK((x_cholmod - x_eigen).norm() <= 1e-12 * x_eigen.norm());
-    // and against the dense solve of the same matrix
-    const Vec dense = system.dense.ldlt().solve(b);
-    CHECK((x_cholmod - dense).norm() <= 1e-12 * dense.norm());
-    b *= -2.0;
+  const Vec b0 = fixtures::random_matrix<Vec>(n, 1);
+  const Vec exact = system.dense.ldlt().solve(b0);
+  for (const auto backend : backends()) {
+    DirectSolver solver(backend);
+    Vec b = b0, x;
+    for (int round = 0; round < 2; ++round) {  // the second reuses the symbolic analysis
+      const SolveStats stats = solver.solve(system.A, b, x);
+      CHECK(stats.relative_residual < 1e-13);
+      CHECK((x - (round == 0 ? 1.0 : -2.0) * exact).norm() <= 1e-12 * x.norm());
+      b *= -2.0;
+    }
+    // An indefinite matrix is refused.
+    BlockSparseMatrix indefinite = system.A;
+    indefinite.block(indefinite.diagonal_block(3))(0, 0) = -1e9;
+    CHECK_THROWS(solver.solve(indefinite, b, x), NotPositiveDefinite);
+    // An empty system (a two-level coarse space with every DOF fixed) is solved, not a crash.
+    SparseCholesky empty(backend);
+    const SparseCholesky::Matrix none(0, 0);
+    empty.analyze(none);
+    CHECK(empty.factorize(none));
+    Vec x_none;
+    empty.solve(Vec(0), x_none);
+    CHECK(x_none.size() == 0);
   }
-  // The single-precision solve of the same factor (a preconditioner's): float round-off
-  // times the condition number (~1e3 here), and really float.
-  {
-    Eigen::SparseMatrix<double, Eigen::ColMajor, int> scalar;
-    system.A.copy_to(scalar);
-    SparseCholesky single(SparseCholesky::Backend::Cholmod);
+  // The single-precision solve of the supernodal factors (a preconditioner's): float
+  // round-off times the condition number (~1e3 here), and really float.
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> scalar;
+  system.A.copy_to(scalar);
+  for (const auto backend : backends()) {
+    if (backend == SparseCholesky::Backend::Eigen) continue;
+    SparseCholesky single(backend);
     single.set_single_precision_solve(true);
     single.analyze(scalar);
     CHECK(single.factorize(scalar));
     Vec x_single;
-    single.solve(b, x_single);
-    const Vec dense = system.dense.ldlt().solve(b);
-    const double error = (x_single - dense).norm() / dense.norm();
+    single.solve(b0, x_single);
+    const double error = (x_single - exact).norm() / exact.norm();
     CHECK(error < 1e-4 && error > 1e-12);
   }
-  // An empty system (a two-level coarse space with every DOF fixed) is solved, not a crash.
-  SparseCholesky empty(SparseCholesky::Backend::Cholmod);
-  const SparseCholesky::Matrix none(0, 0);
-  empty.analyze(none);
-  CHECK(empty.factorize(none));
-  Vec x_none;
-  empty.solve(Vec(0), x_none);
-  CHECK(x_none.size() == 0);
-  // An indefinite matrix: both refuse it.
-  BlockSparseMatrix indefinite = system.A;
-  indefinite.block(indefinite.diagonal_block(3))(0, 0) = -1e9;
-  CHECK_THROWS(cholmod.solve(indefinite, b, x_cholmod), NotPositiveDefinite);
-  CHECK_THROWS(eigen.solve(indefinite, b, x_eigen), NotPositiveDefinite);
+}
+
+TEST(supernodal_factor_of_an_unstructured_matrix_is_exact) {
+  // Not 3 x 3 blocked: a random sparse SPD matrix (a random graph's Laplacian plus a random
+  // diagonal), so scalar columns, relaxed supernodes and several trees all occur; and a
+  // second pattern analysed by the same object.
+  for (const int n : {1, 7, 60, 400}) {
+    std::vector<Eigen::Triplet<double, int>> t;
+    Vec diagonal = Vec::Constant(n, 0.5);
+    for (int e = 0; e < 3 * n; ++e) {
+      const int i = static_cast<int>(fixtures::uniform(0, n - 1e-9)),
+                j = static_cast<int>(fixtures::uniform(0, n - 1e-9));
+      if (i == j || (i + j) % 5 == 0) continue;  // some disconnected pieces
+      const double w = fixtures::uniform(0.1, 1.0);
+      t.emplace_back(i, j, -w), t.emplace_back(j, i, -w);
+      diagonal[i] += w, diagonal[j] += w;
+    }
+    for (int i = 0; i < n; ++i) t.emplace_back(i, i, diagonal[i] + fixtures::uniform(0.0, 1.0));
+    SparseCholesky::Matrix A(n, n);
+    A.setFromTriplets(t.begin(), t.end());
+    A.makeCompressed();
+    SupernodalCholesky cholesky;
+    cholesky.analyze(A);
+    CHECK(cholesky.factorize(A));
+    const SupernodalFactor& L = cholesky.factor();
+    // L L^T equals P A P^T entry by entry.
+    Eigen::MatrixXd dense_L = Eigen::MatrixXd::Zero(n, n);
+    for (int s = 0; s < L.nsuper; ++s) {
+      const int cols = L.super[s + 1] - L.super[s], height = L.pi[s + 1] - L.pi[s];
+      for (int c = 0; c < cols; ++c)
+        for (int r = c; r < height; ++r)
+          dense_L(L.rows[L.pi[s] + r], L.super[s] + c) = cholesky.values()[L.px[s] + c * height + r];
+    }
+    Eigen::MatrixXd permuted(n, n);
+    const Eigen::MatrixXd dense_A = Eigen::MatrixXd(A);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) permuted(i, j) = dense_A(L.perm[i], L.perm[j]);
+    CHECK((dense_L * dense_L.transpose() - permuted).norm() <= 1e-13 * permuted.norm());
+    // supernodal_solve with it
+    const Vec b = fixtures::random_matrix<Vec>(n, 1);
+    Vec x;
+    SupernodalWork<double> work;
+    supernodal_solve(L, SupernodalSplit::of(L), cholesky.values(), b, x, work);
+    CHECK((dense_A * x - b).norm() <= 1e-12 * b.norm());
+    // A new pattern is refused until analysed.
+    SparseCholesky::Matrix other = A;
+    other.coeffRef(0, n - 1) += 0.0;
+    if (other.nonZeros() != A.nonZeros()) CHECK_THROWS(cholesky.factorize(other), InvalidInput);
+    // NaN is no factor.
+    SparseCholesky::Matrix broken = A;
+    broken.valuePtr()[0] = std::numeric_limits<double>::quiet_NaN();
+    CHECK(!cholesky.factorize(broken));
+  }
 }
 
 namespace {
@@ -159,9 +219,9 @@ TEST(supernodal_solve_splits_the_tree_in_two_and_solves_exactly) {
   CHECK((x - exact_u).norm() <= 1e-13 * exact_u.norm());
 }
 
-TEST(cholmod_solve_is_the_same_on_two_threads) {
-  if (!SparseCholesky::have_cholmod() || !have_openmp()) {
-    std::puts("  skipped: needs CHOLMOD and OpenMP");
+TEST(supernodal_solve_is_the_same_on_two_threads) {
+  if (!have_openmp()) {
+    std::puts("  skipped: needs OpenMP");
     return;
   }
   // 3,087 unknowns: above the two-thread threshold of the sweeps.
@@ -169,20 +229,22 @@ TEST(cholmod_solve_is_the_same_on_two_threads) {
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> scalar;
   system.A.copy_to(scalar);
   const Vec b = fixtures::random_matrix<Vec>(scalar.rows(), 1);
-  for (bool single : {false, true}) {
-    SparseCholesky cholesky(SparseCholesky::Backend::Cholmod);
-    cholesky.set_single_precision_solve(single);
-    cholesky.analyze(scalar);
-    CHECK(cholesky.factorize(scalar));
-    const int before = num_threads();
-    Vec x1, x2;
-    set_num_threads(1);
-    cholesky.solve(b, x1);
-    set_num_threads(2);
-    cholesky.solve(b, x2);
-    set_num_threads(before);
-    CHECK(x1 == x2);  // to the bit
-    const Vec residual = b - scalar * x1;
-    CHECK(residual.norm() <= (single ? 1e-4 : 1e-12) * b.norm());
-  }
+  for (const auto backend : backends())
+    for (bool single : {false, true}) {
+      if (backend == SparseCholesky::Backend::Eigen) continue;
+      SparseCholesky cholesky(backend);
+      cholesky.set_single_precision_solve(single);
+      cholesky.analyze(scalar);
+      CHECK(cholesky.factorize(scalar));
+      const int before = num_threads();
+      Vec x1, x2;
+      set_num_threads(1);
+      cholesky.solve(b, x1);
+      set_num_threads(2);
+      cholesky.solve(b, x2);
+      set_num_threads(before);
+      CHECK(x1 == x2);  // to the bit
+      const Vec residual = b - scalar * x1;
+      CHECK(residual.norm() <= (single ? 1e-4 : 1e-12) * b.norm());
+    }
 }

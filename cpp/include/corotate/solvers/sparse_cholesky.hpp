@@ -19,10 +19,12 @@ namespace corotate {
 
 class SparseCholesky {
  public:
-  enum class Backend { Auto, Eigen, Cholmod };  // Auto: CHOLMOD when built with it
+  // Auto: Eigen below kSupernodalFromDofs unknowns, else CHOLMOD when built with it, else
+  // the library's own supernodal factor (supernodal_cholesky.hpp).
+  enum class Backend { Auto, Eigen, Cholmod, Supernodal };
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
-  static constexpr Index kCholmodFromDofs = 4000;
+  static constexpr Index kSupernodalFromDofs = 4000;
   static bool have_cholmod();
   // Backend::Cholmod in a build without CHOLMOD throws InvalidInput.
   explicit SparseCholesky(Backend backend = Backend::Auto);
@@ -38,8 +40,9 @@ class SparseCholesky {
   void analyze(const Matrix& A);
   // Numeric factorization; false when A is not positive definite.
   bool factorize(const Matrix& A);
-  // Solve with a float32 copy of CHOLMOD's factor (made by the next factorize): half the
-  // bytes, relative error ~1e-7, for preconditioners. The Eigen backend ignores it.
+  // Solve with a float32 copy of the supernodal factor (CHOLMOD's or ours, made by the next
+  // factorize): half the bytes, relative error ~1e-7, for preconditioners. The Eigen backend
+  // ignores it.
   void set_single_precision_solve(bool single);
   // x = A^-1 b with the last factorization.
   void solve(const Vec& b, Vec& x) const;
