@@ -594,7 +594,7 @@ def available_threads() -> int:
     """
 def build_info() -> dict:
     """
-    What this build has: cholmod (SuiteSparse direct solves, else Eigen's), openmp (threads), cpu_clones (hot loops compiled for several instruction sets) and instruction_set (the one they run at on this CPU).
+    What this build has: cholmod (SuiteSparse direct solves, else the library's own supernodal Cholesky), openmp (threads), cpu_clones (hot loops compiled for several instruction sets) and instruction_set (the one they run at on this CPU).
     """
 def cell_type_names() -> list[str]:
     """

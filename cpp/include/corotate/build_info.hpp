@@ -7,7 +7,7 @@
 namespace corotate {
 
 struct BuildInfo {
-  bool cholmod = false;   // SuiteSparse CHOLMOD for direct solves (else Eigen's LDLT)
+  bool cholmod = false;   // SuiteSparse CHOLMOD for direct solves (else our supernodal Cholesky)
   bool openmp = false;    // OpenMP threads (else every loop on the calling thread)
   bool cpu_clones = false;  // hot loops compiled for several instruction sets
   std::string instruction_set;  // "x86-64-v4 (AVX-512)", "x86-64-v3 (AVX2, FMA)" or "baseline"

@@ -1,11 +1,19 @@
-// dense_kernels.hpp, compiled per instruction-set level (COROTATE_CPU_CLONES). The product
-// U -= B B^T holds most of the flops: a register tile of 16 rows by 4 columns of U is summed in
-// eight eight-double vectors over all of B's columns, then subtracted once. The panel's
-// triangular solve runs over chunks of rows small enough to stay in the first-level cache.
+// dense_kernels.hpp, compiled per instruction-set level (COROTATE_CPU_CLONES).
+//
+// Nearly all the flops are products C -= A W^T: the update matrix of each supernode and the
+// trailing updates of the blocked panel factorization. They are blocked as fast dense
+// products are (Goto's scheme): a slice of kKc of the inner dimension at a time, W's slice
+// packed into panels of kNr columns and A's into panels of kMr rows, each contiguous in the
+// order the register tile reads it; the tile (16 rows by 4 columns of C, eight eight-double
+// vectors) sums over the slice in registers and is subtracted once. Without packing, the
+// tile read its operands from kKc columns a panel's height apart, and the factorization ran
+// at 6-8 GFlop/s on the 122,880-tet beam's large supernodes (Zen 4); packed, it runs at
+// several times that (bench/README.md).
 #include "corotate/solvers/dense_kernels.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "corotate/simd8.hpp"
 
@@ -17,35 +25,111 @@ namespace corotate {
 
 namespace {
 
-constexpr int kChunkRows = 64;  // rows of the triangular solve per pass (64 x k doubles in L1)
+constexpr int kMr = 16;         // rows of the register tile (two eight-double vectors)
+constexpr int kNr = 4;          // its columns
+constexpr int kKc = 256;        // inner-dimension slice: a packed A panel (kMr x kKc) stays in L1
+constexpr int kMc = 128;        // rows of A packed at a time (kMc x kKc doubles: 256 KB, in L2)
+constexpr int kBlock = 48;      // columns per step of the blocked panel factorization
+constexpr int kChunkRows = 64;  // rows per pass of the small triangular solves (in L1)
 
-}  // namespace
+// Packing buffers, grown on first use (the factorization's sizes are bounded by kKc, kMc and
+// the largest panel), one set per thread.
+thread_local std::vector<double> packed_a, packed_w;
 
-COROTATE_CPU_CLONES bool factor_panel(double* panel, int m, int k) {
-  // The diagonal block, column by column (right-looking): k is at most a few hundred.
+// C (rows x cols, leading dimension ldc) -= the register tile's sums; rows <= kMr, cols <= kNr.
+COROTATE_CLONE_INLINE void tile(const double* a, const double* w, int kc, double* C, int ldc, int rows, int cols) {
+  using simd::Double8;
+  Double8 acc[2][kNr] = {};
+  for (int p = 0; p < kc; ++p) {
+    const Double8 a0 = simd::load8(a + kMr * p), a1 = simd::load8(a + kMr * p + 8);
+    const double* wp = w + kNr * p;
+    for (int c = 0; c < kNr; ++c) {
+      acc[0][c] += a0 * wp[c];
+      acc[1][c] += a1 * wp[c];
+    }
+  }
+  for (int c = 0; c < cols; ++c) {
+    double* column = C + static_cast<size_t>(c) * ldc;
+    if (rows == kMr) {
+      simd::store8(column, simd::load8(column) - acc[0][c]);
+      simd::store8(column + 8, simd::load8(column + 8) - acc[1][c]);
+    } else {
+      for (int r = 0; r < rows; ++r) column[r] -= acc[r / 8][c][r % 8];
+    }
+  }
+}
+
+// Rows [i0, i0 + rows) of X[:, p0 : p0 + kc] (leading dimension ld) into panels of kMr
+// rows (zeros past the end): out[(panel * kc + p) * kMr + r].
+COROTATE_CLONE_INLINE void pack_rows(const double* X, int ld, int rows, int p0, int kc, int width, double* out) {
+  for (int panel = 0; panel * width < rows; ++panel) {
+    const int r0 = panel * width, count = std::min(width, rows - r0);
+    double* dst = out + static_cast<size_t>(panel) * kc * width;
+    for (int p = 0; p < kc; ++p) {
+      const double* src = X + static_cast<size_t>(p0 + p) * ld + r0;
+      double* d = dst + static_cast<size_t>(p) * width;
+      int r = 0;
+      for (; r < count; ++r) d[r] = src[r];
+      for (; r < width; ++r) d[r] = 0.0;
+    }
+  }
+}
+
+size_t rounded(int rows, int width) { return static_cast<size_t>((rows + width - 1) / width) * width; }
+
+// C (rows x cols) -= A W^T, A rows x depth, W cols x depth (column-major); with `lower`, C is
+// square and only its lower triangle is needed (tiles wholly above it are skipped).
+COROTATE_CLONE_INLINE void subtract_product(const double* A, int lda, const double* W, int ldw, int rows, int cols,
+                                            int depth, double* C, int ldc, bool lower) {
+  if (rows <= 0 || cols <= 0 || depth <= 0) return;
+  for (int p0 = 0; p0 < depth; p0 += kKc) {
+    const int kc = std::min(kKc, depth - p0);
+    const size_t w_size = rounded(cols, kNr) * kc, a_size = rounded(std::min(rows, kMc), kMr) * kc;
+    if (packed_w.size() < w_size) packed_w.resize(w_size);
+    if (packed_a.size() < a_size) packed_a.resize(a_size);
+    pack_rows(W, ldw, cols, p0, kc, kNr, packed_w.data());
+    for (int i0 = 0; i0 < rows; i0 += kMc) {
+      const int mc = std::min(kMc, rows - i0);
+      pack_rows(A + i0, lda, mc, p0, kc, kMr, packed_a.data());
+      const int last_col = lower ? std::min(cols, i0 + mc) : cols;
+      for (int j = 0; j < last_col; j += kNr) {
+        const int nc = std::min(kNr, cols - j);
+        const double* w = packed_w.data() + static_cast<size_t>(j / kNr) * kc * kNr;
+        for (int i = 0; i < mc; i += kMr) {
+          if (lower && i0 + i + kMr <= j) continue;  // wholly above the diagonal
+          tile(packed_a.data() + static_cast<size_t>(i / kMr) * kc * kMr, w, kc,
+               C + static_cast<size_t>(j) * ldc + i0 + i, ldc, std::min(kMr, mc - i), nc);
+        }
+      }
+    }
+  }
+}
+
+// Unblocked: the k x k block at D (leading dimension ld) becomes its Cholesky factor (lower),
+// and the `below` rows under it (X, same leading dimension) become X D^-T.
+COROTATE_CLONE_INLINE bool factor_block(double* D, int ld, int k, double* X, int below) {
   for (int j = 0; j < k; ++j) {
-    double* col = panel + static_cast<size_t>(j) * m;
+    double* col = D + static_cast<size_t>(j) * ld;
     const double d = col[j];
     if (!(d > 0.0) || !std::isfinite(d)) return false;
     const double l = std::sqrt(d), inv = 1.0 / l;
     col[j] = l;
     for (int r = j + 1; r < k; ++r) col[r] *= inv;
     for (int c = j + 1; c < k; ++c) {
-      double* target = panel + static_cast<size_t>(c) * m;
+      double* target = D + static_cast<size_t>(c) * ld;
       const double f = col[c];
       for (int r = c; r < k; ++r) target[r] -= f * col[r];
     }
   }
-  // The rows below: L21 = P21 L11^-T, chunk by chunk of rows.
-  for (int r0 = k; r0 < m; r0 += kChunkRows) {
-    const int rows = std::min(kChunkRows, m - r0);
+  for (int r0 = 0; r0 < below; r0 += kChunkRows) {  // the rows below, a chunk at a time
+    const int rows = std::min(kChunkRows, below - r0);
     for (int j = 0; j < k; ++j) {
-      double* col = panel + static_cast<size_t>(j) * m + r0;
-      const double inv = 1.0 / panel[static_cast<size_t>(j) * m + j];
+      double* col = X + static_cast<size_t>(j) * ld + r0;
+      const double inv = 1.0 / D[static_cast<size_t>(j) * ld + j];
       for (int r = 0; r < rows; ++r) col[r] *= inv;
       for (int c = j + 1; c < k; ++c) {
-        double* target = panel + static_cast<size_t>(c) * m + r0;
-        const double f = panel[static_cast<size_t>(j) * m + c];
+        double* target = X + static_cast<size_t>(c) * ld + r0;
+        const double f = D[static_cast<size_t>(j) * ld + c];
         for (int r = 0; r < rows; ++r) target[r] -= f * col[r];
       }
     }
@@ -53,54 +137,23 @@ COROTATE_CPU_CLONES bool factor_panel(double* panel, int m, int k) {
   return true;
 }
 
-namespace {
-
-// Rows [i, i + count) of a column, count <= 8, as one vector (zeros beyond).
-COROTATE_CLONE_INLINE simd::Double8 load_rows(const double* column, int count) {
-  if (count == 8) return simd::load8(column);
-  double v[8] = {};
-  std::copy(column, column + count, v);
-  return simd::load8(v);
-}
-
-COROTATE_CLONE_INLINE void subtract_rows(double* column, simd::Double8 value, int count) {
-  if (count == 8) return simd::store8(column, simd::load8(column) - value);
-  for (int r = 0; r < count; ++r) column[r] -= value[r];
-}
-
-// Rows [i, i + 8 * V) (the last vector cut at `rows`) of columns [j, j + nc) of U -= B B^T.
-template <int V, int NR>
-COROTATE_CLONE_INLINE void update_tile(const double* B, int ldb, int k, int i, int rows, int j, int nc, double* U,
-                                       int ldu) {
-  simd::Double8 acc[V][NR] = {};
-  const int last = std::min(8, rows - i - 8 * (V - 1));
-  for (int p = 0; p < k; ++p) {
-    const double* column = B + static_cast<size_t>(p) * ldb;
-    simd::Double8 a[V];
-    for (int v = 0; v < V; ++v)
-      a[v] = v + 1 < V ? simd::load8(column + i + 8 * v) : load_rows(column + i + 8 * v, last);
-    for (int c = 0; c < NR; ++c) {
-      const double w = c < nc ? column[j + c] : 0.0;
-      for (int v = 0; v < V; ++v) acc[v][c] += a[v] * w;
-    }
-  }
-  for (int c = 0; c < nc; ++c)
-    for (int v = 0; v < V; ++v)
-      subtract_rows(U + static_cast<size_t>(j + c) * ldu + i + 8 * v, acc[v][c], v + 1 < V ? 8 : last);
-}
-
 }  // namespace
 
-COROTATE_CPU_CLONES void subtract_lower_product(const double* B, int ldb, int b, int k, double* U) {
-  constexpr int NR = 4;
-  for (int j = 0; j < b; j += NR) {
-    const int nc = std::min(NR, b - j);
-    // From the tile's first column down: the lower triangle and a sliver of the upper one,
-    // which nothing reads.
-    int i = j;
-    for (; i + 16 <= b; i += 16) update_tile<2, NR>(B, ldb, k, i, b, j, nc, U, b);
-    for (; i < b; i += 8) update_tile<1, NR>(B, ldb, k, i, b, j, nc, U, b);
+COROTATE_CPU_CLONES bool factor_panel(double* panel, int m, int k) {
+  // Right-looking by blocks of kBlock columns: factor the block and the rows under it, then
+  // take its product from the trailing columns (their lower part: rows from the diagonal).
+  for (int j0 = 0; j0 < k; j0 += kBlock) {
+    const int jb = std::min(kBlock, k - j0), next = j0 + jb;
+    double* block = panel + static_cast<size_t>(j0) * m + j0;
+    if (!factor_block(block, m, jb, block + jb, m - next)) return false;
+    const double* L = panel + static_cast<size_t>(j0) * m + next;  // rows next.., the block's columns
+    subtract_product(L, m, L, m, m - next, k - next, jb, panel + static_cast<size_t>(next) * m + next, m, true);
   }
+  return true;
+}
+
+COROTATE_CPU_CLONES void subtract_lower_product(const double* B, int ldb, int b, int k, double* U) {
+  subtract_product(B, ldb, B, ldb, b, b, k, U, b, true);
 }
 
 }  // namespace corotate

@@ -67,6 +67,54 @@ std::vector<int> postorder(const std::vector<int>& parent) {
   return order;
 }
 
+// Whether A's pattern is made of whole 3 x 3 blocks (each node's three columns alike).
+bool is_three_blocked(const SupernodalCholesky::Matrix& A) {
+  const int n = static_cast<int>(A.rows());
+  if (n % 3 != 0) return false;
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  for (int c = 0; c < n; c += 3) {
+    const int count = outer[c + 1] - outer[c];
+    if (count % 3 != 0 || outer[c + 2] - outer[c + 1] != count || outer[c + 3] - outer[c + 2] != count) return false;
+    for (int q = 0; q < 3; ++q)
+      for (int p = outer[c + q], t = 0; p < outer[c + q + 1]; p += 3, t += 3)
+        if (inner[p] % 3 != 0 || inner[p + 1] != inner[p] + 1 || inner[p + 2] != inner[p] + 2 ||
+            inner[p] != inner[outer[c] + t])
+          return false;
+  }
+  return true;
+}
+
+// AMD's order (new position -> column). On a matrix of 3 x 3 node blocks, AMD orders the node
+// graph (a ninth of the entries: the 122,880-tet beam's analysis took 0.74 s on the scalar
+// graph) and each node's three columns follow one another.
+std::vector<int> amd_order_of(const SupernodalCholesky::Matrix& A) {
+  const int n = static_cast<int>(A.rows());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> amd;
+  if (!is_three_blocked(A)) {
+    Eigen::AMDOrdering<int>()(A, amd);
+    return std::vector<int>(amd.indices().data(), amd.indices().data() + n);
+  }
+  const int nodes = n / 3;
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  std::vector<int> start(nodes + 1, 0), rows;
+  rows.reserve(A.nonZeros() / 9);
+  for (int v = 0; v < nodes; ++v) {
+    for (int p = outer[3 * v]; p < outer[3 * v + 1]; p += 3) rows.push_back(inner[p] / 3);
+    start[v + 1] = static_cast<int>(rows.size());
+  }
+  std::vector<double> ones(rows.size(), 1.0);
+  const SupernodalCholesky::Matrix graph = Eigen::Map<const SupernodalCholesky::Matrix>(
+      nodes, nodes, static_cast<int>(rows.size()), start.data(), rows.data(), ones.data());
+  Eigen::AMDOrdering<int>()(graph, amd);
+  std::vector<int> order;
+  order.reserve(n);
+  for (int k = 0; k < nodes; ++k)
+    for (int c = 0; c < 3; ++c) order.push_back(3 * amd.indices()[k] + c);
+  return order;
+}
+
 }  // namespace
 
 void SupernodalCholesky::analyze(const Matrix& A) {
@@ -79,9 +127,8 @@ void SupernodalCholesky::analyze(const Matrix& A) {
   // 1. AMD, then the elimination tree's postorder on top of it (the same fill; each subtree
   // contiguous, so supernodes are column ranges and children come right before parents).
   {
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> amd;
-    Eigen::AMDOrdering<int>()(A, amd);
-    std::vector<int> amd_order(amd.indices().data(), amd.indices().data() + n), amd_inverse(n);
+    const std::vector<int> amd_order = amd_order_of(A);
+    std::vector<int> amd_inverse(n);
     for (int k = 0; k < n; ++k) amd_inverse[amd_order[k]] = k;
     const std::vector<int> post = postorder(elimination_tree(A, amd_order, amd_inverse));
     perm_.resize(n);

@@ -1,13 +1,17 @@
 // Sparse Cholesky factorization of a symmetric positive definite matrix, for the direct
 // solver (Direct(), Newton steps, statics) and the coarse level of the two-level
-// preconditioner. SuiteSparse CHOLMOD (supernodal, with the ordering CHOLMOD picks: AMD, or
-// METIS where it pays) when the build found it (Debian: libsuitesparse-dev); Eigen's
-// SimplicialLDLT (AMD ordering) otherwise, or on request. Auto takes CHOLMOD from
-// kCholmodFromDofs unknowns up: below, its supernodes are too small for BLAS to pay, and
-// with Debian's reference BLAS it factorized the 828-DOF Table 1 cage in 0.92 ms against
-// 0.48 ms for SimplicialLDLT (4,557 DOFs: 68 against 81 ms; 9,963: 331 against 514 ms).
-// CHOLMOD's factor is solved by our own sweeps over its supernodes with Eigen's dense
-// kernels, not by cholmod_solve (which runs them through BLAS: slow with the reference BLAS).
+// preconditioner. Three backends:
+// - SuiteSparse CHOLMOD (supernodal, with the ordering CHOLMOD picks: AMD, or METIS where it
+//   pays) when the build found it (Debian: libsuitesparse-dev);
+// - the library's own supernodal factor (supernodal_cholesky.hpp) otherwise: a plain
+//   `pip install .` or the prebuilt wheel. At 122,880 tets (70,227 unknowns) it factorizes in
+//   about 1.3x CHOLMOD's time with OpenBLAS, and 5x faster than CHOLMOD with Debian's
+//   default reference BLAS (bench/README.md); Eigen's SimplicialLDLT took 81 s there;
+// - Eigen's SimplicialLDLT below kSupernodalFromDofs unknowns, where supernodes are too small
+//   for dense kernels to pay: with Debian's reference BLAS CHOLMOD factorized the 828-DOF
+//   Table 1 cage in 0.92 ms against 0.48 ms for SimplicialLDLT.
+// Both supernodal factors are solved by our own sweeps (supernodal_solve.hpp), not by
+// cholmod_solve (which runs them through BLAS: slow with the reference BLAS).
 #pragma once
 
 #include <Eigen/SparseCore>
