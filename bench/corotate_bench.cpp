@@ -97,6 +97,8 @@ Config config_by_name(const std::string& name, const Options& opt) {
     c.pcg = opt.custom;
   } else if (name == "direct") {
     c.solver = "direct";
+    // named by the backend when one is asked for (--direct), so that runs compare in one table
+    if (opt.direct != SparseCholesky::Backend::Auto) c.name += std::string("_") + DirectSolver(opt.direct).backend_name();
   } else {
     throw InvalidInput("unknown configuration '" + name + "'");
   }

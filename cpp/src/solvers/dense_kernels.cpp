@@ -11,15 +11,15 @@
 // several times that (bench/README.md).
 #include "corotate/solvers/dense_kernels.hpp"
 
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "corotate/simd8.hpp"
-
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 
 namespace corotate {
 
