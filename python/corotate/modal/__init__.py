@@ -14,9 +14,10 @@ from .modal_body import ModalBody
 from .modal_stress import linear_stress, modal_stresses
 from .partial_rotation import PartialRotation, least_squares_rotation
 from .reduced_stvk import modal_derivatives, reduced_stvk_tensors
-from .reduction import ModalBasis, craig_bampton
+from .reduction import BasisWarning, ModalBasis, craig_bampton
 
 __all__ = [
+    "BasisWarning",
     "ModalBasis",
     "ModalBody",
     "PartialRotation",
