@@ -4,6 +4,7 @@ displacements."""
 
 from __future__ import annotations
 
+from .exudyn_export import ExudynBody, exudyn_fem, to_exudyn
 from .geometric_stiffness import (
     linear_geometric_stiffness,
     load_geometric_stiffness,
@@ -31,4 +32,7 @@ __all__ = [
     "scaled_mode_geometric_stiffness",
     "modal_derivatives",
     "reduced_stvk_tensors",
+    "ExudynBody",
+    "exudyn_fem",
+    "to_exudyn",
 ]
