@@ -1,0 +1,176 @@
+"""A flexible pendulum (issue 25): a link on a revolute joint, released horizontal under
+gravity, run for 2 s as a full co-rotational body and as Exudyn's reduced floating-frame body
+(ObjectFFRFreducedOrder) built from corotate's Craig-Bampton basis. How close are their tip
+paths, and does the basis size matter?
+
+The link: 1 x 0.05 x 0.05 m, density 7850 kg/m^3, E = 3e8 Pa, nu = 0.3 (its tip bends about 3 %
+of its length against the frame of its root), Hex20 10 x 2 x 2 cells. The hinge axis is the
+line x = 0, z = 0.025 (along y); gravity -z.
+
+* Full co-rotational (corotate): the five nodes on the hinge axis fixed, the rest free to turn
+  about it; backward Euler with Newton (Direct solver) at dt and dt/2. Backward Euler is first
+  order and damps, so the reference is the Richardson extrapolation 2 x(dt/2) - x(dt).
+* Exudyn: craig_bampton with the root face fixed (the floating frame is the root face), n
+  normal modes, handed over with corotate.modal.to_exudyn; a revolute joint from the ground to a
+  rigid marker on the root nodes; generalized-alpha without numerical damping (spectral
+  radius 1), step min(dt, 1 ms).
+
+The error of a tip path is the largest distance between tip positions (mean of the tip face's
+nodes) at equal times, over the path's radius L (and its RMS over time).
+
+    python -m studies.flexible_pendulum --out flexible-pendulum   # tip_paths.csv, errors.csv, flexible_pendulum.png
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+import corotate as cr
+from corotate.modal import craig_bampton, to_exudyn
+
+from ._common import output_folder, parser, pyplot, save_figure, write_csv
+
+L, B, H = 1.0, 0.05, 0.05
+MATERIAL = cr.Material(E=3e8, nu=0.3, density=7850.0)
+CELLS = (10, 2, 2)
+GRAVITY = (0.0, 0.0, -9.81)
+HINGE = (0.0, B / 2, H / 2)  # a point of the axis, which is along y
+
+
+def link() -> tuple[cr.Mesh, np.ndarray, np.ndarray, np.ndarray]:
+    """The link's mesh, its hinge-axis nodes, its root face nodes and its tip face nodes."""
+    mesh = cr.beam(L, B, H, cells=CELLS, element="hex20")
+    p = mesh.points
+    axis = np.flatnonzero(np.isclose(p[:, 0], 0.0) & np.isclose(p[:, 2], HINGE[2]))
+    return mesh, axis, mesh.nodes_on_plane("x", 0.0), mesh.nodes_on_plane("x", L)
+
+
+def full_tip_path(dt: float, duration: float, every: int = 1) -> np.ndarray:
+    """(k, 4) rows t, tip x, y, z of the full co-rotational link, every `every` steps of dt."""
+    mesh, axis, _root, tip = link()
+    sim = cr.Simulation(
+        cr.Body(mesh, MATERIAL, model="corotational"), dt=dt, solver=cr.Direct(), gravity=GRAVITY, integrator="newton"
+    )
+    sim.fix(axis)
+    steps = round(duration / dt)
+    rows = [(0.0, *sim.positions[tip].mean(axis=0))]
+    for k in range(1, steps + 1):
+        sim.step()
+        if k % every == 0:
+            rows.append((k * dt, *sim.positions[tip].mean(axis=0)))
+    return np.array(rows)
+
+
+def exudyn_tip_path(n_modes: int, times: np.ndarray, step: float) -> tuple[np.ndarray, int]:
+    """(len(times), 3) tip positions of the Exudyn run with n_modes normal modes at the given
+    times (interpolated between its sensor samples), and the basis size."""
+    import exudyn as exu
+    from exudyn.itemInterface import GenericJoint, MarkerBodyRigid, ObjectGround, SensorMarker
+
+    mesh, _axis, root, tip = link()
+    body = cr.Body(mesh, MATERIAL, model="linear")
+    basis = craig_bampton(body, root, n_modes=n_modes)
+    mbs = exu.SystemContainer().AddSystem()
+    flexible = to_exudyn(mbs, body, basis, gravity=GRAVITY)
+    ground = mbs.AddObject(ObjectGround())
+    at_hinge = mbs.AddMarker(MarkerBodyRigid(bodyNumber=ground, localPosition=list(HINGE)))
+    # The root face's centroid is on the axis; the joint leaves the rotation about y free.
+    free_about_y = [1, 1, 1, 1, 0, 1]
+    mbs.AddObject(GenericJoint(markerNumbers=[at_hinge, flexible.rigid_marker(root)], constrainedAxes=free_about_y))
+    sensor = mbs.AddSensor(
+        SensorMarker(
+            markerNumber=flexible.position_marker(tip),
+            outputVariableType=exu.OutputVariableType.Position,
+            storeInternal=True,
+        )
+    )
+    mbs.Assemble()
+    settings = exu.SimulationSettings()
+    settings.solution.file.write = False
+    settings.solution.sensors.writePeriod = step
+    settings.timeIntegration.verboseMode = 0
+    settings.timeIntegration.endTime = float(times[-1])
+    settings.timeIntegration.numberOfSteps = round(times[-1] / step)
+    settings.timeIntegration.generalizedAlpha.spectralRadius = 1.0  # no numerical damping
+    mbs.SolveDynamic(settings)
+    data = mbs.GetSensorStoredData(sensor)
+    return np.column_stack([np.interp(times, data[:, 0], data[:, k]) for k in (1, 2, 3)]), basis.size
+
+
+def path_error(path: np.ndarray, reference: np.ndarray) -> tuple[float, float, int]:
+    """Largest and RMS distance between two (k, 3) tip paths over L, and where the largest is."""
+    d = np.linalg.norm(path - reference, axis=1) / L
+    return float(d.max()), float(np.sqrt(np.mean(d**2))), int(d.argmax())
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = parser(__doc__, "flexible-pendulum")
+    p.add_argument("--dt", type=float, default=5e-4, help="the full runs' coarser step [s] (default 5e-4; also dt/2)")
+    p.add_argument("--duration", type=float, default=2.0, help="simulated time [s] (default 2)")
+    p.add_argument(
+        "--modes", type=int, nargs="+", default=[4, 8, 16], help="normal modes of the Exudyn bases (default 4 8 16)"
+    )
+    args = p.parse_args(argv)
+    if not (args.dt > 0 and args.duration >= 10 * args.dt):
+        p.error("--dt must be > 0 and --duration at least 10 steps")
+    try:
+        import exudyn  # noqa: F401
+    except ImportError:
+        p.error("this study needs exudyn: pip install 'corotate-fem[mbs]'")
+    out = output_folder(args.out)
+
+    t0 = time.perf_counter()
+    coarse = full_tip_path(args.dt, args.duration)
+    fine = full_tip_path(args.dt / 2, args.duration, every=2)
+    print(f"full co-rotational runs (dt {args.dt:g} and {args.dt / 2:g} s): {time.perf_counter() - t0:.0f} s")
+    times = coarse[:, 0]
+    reference = 2 * fine[:, 1:] - coarse[:, 1:]  # Richardson: backward Euler's O(dt) error cancels
+    mesh, axis, _root, _tip = link()
+    runs = {f"full co-rotational, dt = {args.dt / 2:g} s": (fine[:, 1:], 3 * (mesh.n_nodes - axis.size))}
+    t0 = time.perf_counter()
+    for n in args.modes:
+        path, size = exudyn_tip_path(n, times, min(args.dt, 1e-3))
+        runs[f"Exudyn FFRF, {n} modes"] = (path, 6 + size)  # the frame's six and the modal coordinates
+    print(f"Exudyn runs: {time.perf_counter() - t0:.0f} s")
+
+    rows = []
+    print("run | unknowns | max tip error / L | RMS / L | at t [s]")
+    for name, (path, size) in runs.items():
+        worst, rms, k = path_error(path, reference)
+        rows.append((name, size, worst, rms, float(times[k])))
+        print(f"{name} | {size} | {worst:.4f} | {rms:.4f} | {times[k]:.3f}")
+    write_csv(out / "errors.csv", ["run", "unknowns", "max_error_over_L", "rms_error_over_L", "t_max_s"], rows)
+    header = ["t_s", "reference_x_m", "reference_z_m"]
+    columns = [times, reference[:, 0], reference[:, 2]]
+    for k, (path, _size) in enumerate(runs.values()):
+        header += [f"run{k}_x_m", f"run{k}_z_m"]
+        columns += [path[:, 0], path[:, 2]]
+    write_csv(out / "tip_paths.csv", header, np.column_stack(columns).tolist())
+
+    plt = pyplot()
+    fig, (ax, ax_err) = plt.subplots(1, 2, figsize=(11, 4.8))
+    ax.plot(reference[:, 0], reference[:, 2], "k-", lw=2.5, alpha=0.35, label="full co-rotational (extrapolated)")
+    for name, (path, _size) in runs.items():
+        ax.plot(path[:, 0], path[:, 2], "-", lw=1, label=name)
+        ax_err.semilogy(times[1:], np.linalg.norm(path - reference, axis=1)[1:] / L, lw=1, label=name)
+    ax.set_xlabel("tip x [m]")
+    ax.set_ylabel("tip z [m]")
+    ax.set_aspect("equal")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower left", fontsize=7)
+    ax.set_title("Tip path of the flexible pendulum")
+    ax_err.set_xlabel("t [s]")
+    ax_err.set_ylabel("|tip - reference| / L")
+    ax_err.grid(alpha=0.3, which="both")
+    ax_err.legend(loc="lower right", fontsize=7)
+    ax_err.set_title("Distance from the extrapolated full co-rotational tip")
+    png = save_figure(fig, out / "flexible_pendulum.png")
+    print(f"wrote {out / 'tip_paths.csv'}, {out / 'errors.csv'} and {png}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
