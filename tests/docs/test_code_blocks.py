@@ -4,11 +4,13 @@ Every ```python block of README.md and of docs/**/*.md runs, page by page in one
 page's later blocks build on its earlier ones), in a fresh folder. A block followed by a
 ```text block whose introduction says "prints" must print exactly that text. A block preceded
 by an HTML comment "<!-- not run: reason -->" is skipped (it needs a display or data the tests
-do not have)."""
+do not have), one preceded by "<!-- needs: module -->" where that module (an optional extra's)
+is not installed."""
 
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import io
 import re
 from pathlib import Path
@@ -31,6 +33,9 @@ def examples(page: Path) -> list[tuple[str, str | None, int]]:
             continue
         before = text[blocks[k - 1][3] if k else 0 : start]
         if "<!-- not run:" in before:
+            continue
+        needs = re.search(r"<!-- needs: ([\w.]+) -->", before)
+        if needs and importlib.util.find_spec(needs.group(1)) is None:
             continue
         expected = None
         if k + 1 < len(blocks):
