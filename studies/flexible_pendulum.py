@@ -21,6 +21,16 @@ axis (x = 0, z = 0, along y); gravity -z.
 The error of a tip path is the largest distance between tip positions (mean of the tip face's
 nodes) at equal times, over the path's radius L (and its RMS over time).
 
+What it shows (defaults): every Exudyn run is within 1.5-1.9 % of L of the full co-rotational
+tip (RMS 0.65-0.78 %), converged in the basis at 4-8 modes (16 or 32 change nothing or add
+softness: up to +0.1 %), and the same with the exact hinge (1.5-1.7 %): neither the basis size
+nor the hinge decides it. The Exudyn tip lags (its body is linear in its frame: no stiffening
+by the centrifugal and gravity tension, which raises the first bending frequency by ~15 % at
+the bottom of the swing). A 10x stiffer link (E = 3e9) gives 0.12-0.17 %: the gap scales
+with the deformation. The extrapolated reference is good to ~0.14 % of L (the extrapolations
+from 1 and 0.5 ms and from 0.5 and 0.25 ms differ by that); the 0.25 ms backward-Euler run
+alone is 1.6 % off by 2 s (it damps). Exudyn's step (1 ms) is converged (0.5 ms: 4e-5 L).
+
     python -m studies.flexible_pendulum --out flexible-pendulum   # tip_paths.csv, errors.csv, flexible_pendulum.png
 """
 

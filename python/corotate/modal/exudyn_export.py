@@ -37,10 +37,11 @@ __all__ = ["ExudynBody", "exudyn_fem", "to_exudyn"]
 _RIGID_RTOL = 1e-6
 
 
-def _exudyn() -> Any:
-    """The exudyn module, or ImportError naming the extra that provides it."""
+def _exudyn(part: str = "") -> Any:
+    """The exudyn module (or its submodule ``part``, e.g. ".FEM"), or ImportError naming the
+    extra that provides it."""
     try:
-        return importlib.import_module("exudyn")
+        return importlib.import_module("exudyn" + part)
     except ImportError as e:
         raise ImportError("exporting to Exudyn needs exudyn: pip install 'corotate-fem[mbs]'") from e
 
@@ -102,7 +103,7 @@ def exudyn_fem(body: Body, basis: ModalBasis) -> Any:
     basis belongs to another mesh or holds a rigid-body motion.
     """
     _check_pair(body, basis)
-    fem_module = importlib.import_module(_exudyn().__name__ + ".FEM")
+    fem_module = _exudyn(".FEM")
     fem = fem_module.FEMinterface()
     fem.nodes = {"Position": np.array(body.mesh.points, dtype=np.float64)}
     fem.massMatrix = body.mass_matrix(lumped=False).tocsr()
@@ -149,7 +150,7 @@ class ExudynBody:
                 f"a rigid marker needs nodes that are not all on one line, got {idx.size} node(s) of rank "
                 f"{np.linalg.matrix_rank(spread) if idx.size else 0}"
             )
-        items = importlib.import_module(_exudyn().__name__ + ".itemInterface")
+        items = _exudyn(".itemInterface")
         weights = np.full(idx.size, 1.0 / idx.size)
         marker = items.MarkerSuperElementRigid(
             bodyNumber=self.object, meshNodeNumbers=idx.tolist(), weightingFactors=weights.tolist()
@@ -162,7 +163,7 @@ class ExudynBody:
         idx = self._mesh_nodes(nodes)
         if idx.size == 0:
             raise ValueError("a position marker needs at least one node")
-        items = importlib.import_module(_exudyn().__name__ + ".itemInterface")
+        items = _exudyn(".itemInterface")
         weights = np.full(idx.size, 1.0 / idx.size)
         marker = items.MarkerSuperElementPosition(
             bodyNumber=self.object, meshNodeNumbers=idx.tolist(), weightingFactors=weights.tolist()
@@ -230,7 +231,7 @@ def to_exudyn(
     if not (np.isfinite(alpha) and np.isfinite(beta) and alpha >= 0 and beta >= 0):
         raise ValueError(f"rayleigh must be two finite numbers >= 0, got {rayleigh!r}")
     fem = exudyn_fem(body, basis)
-    fem_module = importlib.import_module(_exudyn().__name__ + ".FEM")
+    fem_module = _exudyn(".FEM")
     interface = fem_module.ObjectFFRFreducedOrderInterface(fem)
     added = interface.AddObjectFFRFreducedOrder(
         mbs,
