@@ -24,12 +24,13 @@ nodes) at equal times, over the path's radius L (and its RMS over time).
 What it shows (defaults): every Exudyn run is within 1.5-1.9 % of L of the full co-rotational
 tip (RMS 0.65-0.78 %). The basis is converged at 8 modes (root face: 1.87 %, 32 modes the same)
 or 16 (hinge axis: 1.68 %); 4 modes are stiffer and land a little closer (1.6 %). The exact
-hinge changes it by 0.2 %: neither the basis size nor the hinge decides it. The Exudyn tip lags (its body is linear in its frame: no stiffening
-by the centrifugal and gravity tension, which raises the first bending frequency by ~15 % at
-the bottom of the swing). A 10x stiffer link (E = 3e9) gives 0.12-0.17 %: the gap scales
-with the deformation. The extrapolated reference is good to ~0.14 % of L (the extrapolations
-from 1 and 0.5 ms and from 0.5 and 0.25 ms differ by that); the 0.25 ms backward-Euler run
-alone is 1.6 % off by 2 s (it damps). Exudyn's step (1 ms) is converged (0.5 ms: 4e-5 L).
+hinge changes it by 0.2 %: neither the basis size nor the hinge decides it. The Exudyn tip
+lags: its body is linear in its frame, without the stiffening by the centrifugal tension
+(Southwell's estimate: +16 % on the first bending frequency at the bottom of the swing). A 10x
+stiffer link (--E 3e9) gives 0.12-0.17 %: the gap scales with the deformation. The
+extrapolated reference is good to ~0.14 % of L (the extrapolations from 1 and 0.5 ms and from
+0.5 and 0.25 ms differ by that); the 0.25 ms backward-Euler run alone is 1.6 % off by 2 s (it
+damps). Exudyn's step (1 ms) is converged (0.5 ms: 4e-5 L).
 
     python -m studies.flexible_pendulum --out flexible-pendulum   # tip_paths.csv, errors.csv, flexible_pendulum.png
 """
@@ -62,11 +63,11 @@ def link() -> tuple[cr.Mesh, np.ndarray, np.ndarray, np.ndarray]:
     return mesh, axis, mesh.nodes_on_plane("x", 0.0), mesh.nodes_on_plane("x", L)
 
 
-def full_tip_path(dt: float, duration: float, every: int = 1) -> np.ndarray:
+def full_tip_path(dt: float, duration: float, every: int = 1, material: cr.Material = MATERIAL) -> np.ndarray:
     """(k, 4) rows t, tip x, y, z of the full co-rotational link, every `every` steps of dt."""
     mesh, axis, _root, tip = link()
     sim = cr.Simulation(
-        cr.Body(mesh, MATERIAL, model="corotational"), dt=dt, solver=cr.Direct(), gravity=GRAVITY, integrator="newton"
+        cr.Body(mesh, material, model="corotational"), dt=dt, solver=cr.Direct(), gravity=GRAVITY, integrator="newton"
     )
     sim.fix(axis)
     steps = round(duration / dt)
@@ -78,7 +79,9 @@ def full_tip_path(dt: float, duration: float, every: int = 1) -> np.ndarray:
     return np.array(rows)
 
 
-def exudyn_tip_path(n_modes: int, times: np.ndarray, step: float, frame: str = "root face") -> tuple[np.ndarray, int]:
+def exudyn_tip_path(
+    n_modes: int, times: np.ndarray, step: float, frame: str = "root face", material: cr.Material = MATERIAL
+) -> tuple[np.ndarray, int]:
     """(len(times), 3) tip positions of the Exudyn run with n_modes normal modes of the basis
     whose frame is `frame` (one of FRAMES) at the given times (interpolated between its sensor
     samples), and the basis size."""
@@ -86,7 +89,7 @@ def exudyn_tip_path(n_modes: int, times: np.ndarray, step: float, frame: str = "
     from exudyn.itemInterface import GenericJoint, MarkerBodyRigid, MarkerNodeRigid, ObjectGround, SensorMarker
 
     mesh, axis, root, tip = link()
-    body = cr.Body(mesh, MATERIAL, model="linear")
+    body = cr.Body(mesh, material, model="linear")
     if frame == "root face":
         basis = craig_bampton(body, root, n_modes=n_modes)
     else:  # the axis nodes held, and the x DOF of a root corner so that the frame turns with it
@@ -137,7 +140,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument(
         "--modes", type=int, nargs="+", default=[4, 8, 16], help="normal modes of the Exudyn bases (default 4 8 16)"
     )
+    p.add_argument(
+        "--E", type=float, default=MATERIAL.E, help=f"the link's Young's modulus [Pa] (default {MATERIAL.E:g})"
+    )
     args = p.parse_args(argv)
+    if not (args.E > 0):
+        p.error("--E must be > 0")
+    material = cr.Material(E=args.E, nu=MATERIAL.nu, density=MATERIAL.density)
     if not (args.dt > 0 and args.duration >= 10 * args.dt):
         p.error("--dt must be > 0 and --duration at least 10 steps")
     try:
@@ -147,8 +156,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = output_folder(args.out)
 
     t0 = time.perf_counter()
-    coarse = full_tip_path(args.dt, args.duration)
-    fine = full_tip_path(args.dt / 2, args.duration, every=2)
+    coarse = full_tip_path(args.dt, args.duration, material=material)
+    fine = full_tip_path(args.dt / 2, args.duration, every=2, material=material)
     print(f"full co-rotational runs (dt {args.dt:g} and {args.dt / 2:g} s): {time.perf_counter() - t0:.0f} s")
     times = coarse[:, 0]
     reference = 2 * fine[:, 1:] - coarse[:, 1:]  # Richardson: backward Euler's O(dt) error cancels
@@ -157,7 +166,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     t0 = time.perf_counter()
     for frame in FRAMES:
         for n in args.modes:
-            path, size = exudyn_tip_path(n, times, min(args.dt, 1e-3), frame)
+            path, size = exudyn_tip_path(n, times, min(args.dt, 1e-3), frame, material)
             runs[f"Exudyn FFRF, {frame}, {n} modes"] = (path, 6 + size)  # the frame's six and the modal coordinates
     print(f"Exudyn runs: {time.perf_counter() - t0:.0f} s")
 

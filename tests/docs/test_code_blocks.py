@@ -58,6 +58,15 @@ def test_the_readme_is_at_most_200_lines():
     assert len((ROOT / "README.md").read_text().splitlines()) <= 200
 
 
+def test_a_block_needing_a_missing_module_is_skipped(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text(
+        "<!-- needs: json -->\n```python\nkept = 1\n```\n\n"
+        "<!-- needs: no_such_module_here -->\n```python\nskipped = 1\n```\n"
+    )
+    assert [code for code, _, _ in examples(page)] == ["kept = 1\n"]
+
+
 def test_every_guide_page_shows_code_that_runs():
     for page in sorted((ROOT / "docs" / "guide").glob("*.md")):
         if page.name != "index.md":
