@@ -41,9 +41,10 @@ def _exudyn(part: str = "") -> Any:
     """The exudyn module (or its submodule ``part``, e.g. ".FEM"), or ImportError naming the
     extra that provides it."""
     try:
-        return importlib.import_module("exudyn" + part)
+        module = importlib.import_module("exudyn")  # first: a loaded submodule would hide its absence
     except ImportError as e:
         raise ImportError("exporting to Exudyn needs exudyn: pip install 'corotate-fem[mbs]'") from e
+    return importlib.import_module("exudyn" + part) if part else module
 
 
 def _check_pair(body: Body, basis: ModalBasis) -> None:
