@@ -4,11 +4,13 @@ Every ```python block of README.md and of docs/**/*.md runs, page by page in one
 page's later blocks build on its earlier ones), in a fresh folder. A block followed by a
 ```text block whose introduction says "prints" must print exactly that text. A block preceded
 by an HTML comment "<!-- not run: reason -->" is skipped (it needs a display or data the tests
-do not have)."""
+do not have), one preceded by "<!-- needs: module -->" where that module (an optional extra's)
+is not installed."""
 
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import io
 import re
 from pathlib import Path
@@ -32,6 +34,9 @@ def examples(page: Path) -> list[tuple[str, str | None, int]]:
         before = text[blocks[k - 1][3] if k else 0 : start]
         if "<!-- not run:" in before:
             continue
+        needs = re.search(r"<!-- needs: ([\w.]+) -->", before)
+        if needs and importlib.util.find_spec(needs.group(1)) is None:
+            continue
         expected = None
         if k + 1 < len(blocks):
             next_lang, next_code, next_start, _ = blocks[k + 1]
@@ -51,6 +56,15 @@ def test_the_readme_has_examples_with_output():
 
 def test_the_readme_is_at_most_200_lines():
     assert len((ROOT / "README.md").read_text().splitlines()) <= 200
+
+
+def test_a_block_needing_a_missing_module_is_skipped(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text(
+        "<!-- needs: json -->\n```python\nkept = 1\n```\n\n"
+        "<!-- needs: no_such_module_here -->\n```python\nskipped = 1\n```\n"
+    )
+    assert [code for code, _, _ in examples(page)] == ["kept = 1\n"]
 
 
 def test_every_guide_page_shows_code_that_runs():

@@ -4,6 +4,7 @@ displacements."""
 
 from __future__ import annotations
 
+from .exudyn_export import ExudynBody, exudyn_fem, to_exudyn
 from .geometric_stiffness import (
     linear_geometric_stiffness,
     load_geometric_stiffness,
@@ -14,9 +15,10 @@ from .modal_body import ModalBody
 from .modal_stress import linear_stress, modal_stresses
 from .partial_rotation import PartialRotation, least_squares_rotation
 from .reduced_stvk import modal_derivatives, reduced_stvk_tensors
-from .reduction import ModalBasis, craig_bampton
+from .reduction import BasisWarning, ModalBasis, craig_bampton
 
 __all__ = [
+    "BasisWarning",
     "ModalBasis",
     "ModalBody",
     "PartialRotation",
@@ -30,4 +32,7 @@ __all__ = [
     "scaled_mode_geometric_stiffness",
     "modal_derivatives",
     "reduced_stvk_tensors",
+    "ExudynBody",
+    "exudyn_fem",
+    "to_exudyn",
 ]

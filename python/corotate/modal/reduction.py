@@ -20,6 +20,7 @@ shift-invert eigen solve (ARPACK through SciPy's eigsh).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -33,7 +34,7 @@ if TYPE_CHECKING:
 
     from ..body import Body
 
-__all__ = ["ModalBasis", "craig_bampton", "node_dofs"]
+__all__ = ["BasisWarning", "ModalBasis", "craig_bampton", "node_dofs"]
 
 
 def node_dofs(nodes: ArrayLike, n_nodes: int, what: str = "nodes") -> np.ndarray:
@@ -64,7 +65,7 @@ class ModalBasis:
     fixed_dofs       DOF indices held at zero.
     interface_nodes  node indices whose constraint modes are in the basis.
     n_normal_modes   fixed-boundary normal modes used.
-    n_extra          extra vectors appended before orthonormalisation (modal derivatives...).
+    n_extra          extra vectors (modal derivatives, static shapes...) kept in the basis.
     """
 
     vectors: np.ndarray
@@ -159,22 +160,52 @@ def _fixed_dof_set(n_nodes: int, fixed_nodes: ArrayLike, fixed_dofs: ArrayLike |
     return fixed
 
 
+class BasisWarning(UserWarning):
+    """A reduction basis built without a vector the caller handed in (it is linearly
+    dependent on the vectors before it)."""
+
+
+#: A column whose part outside the span of the columns before it is below this share of its
+#: own M-norm is linearly dependent on them (round-off leaves ~1e-14 of a truly dependent one).
+DEPENDENCY_RTOL = 1e-9
+
+
 def orthonormalize(
-    vectors: np.ndarray, K: sp.spmatrix, M: sp.spmatrix, rtol: float = 1e-10
-) -> tuple[np.ndarray, np.ndarray]:
+    vectors: np.ndarray, K: sp.spmatrix, M: sp.spmatrix, rtol: float = DEPENDENCY_RTOL
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Basis Phi spanning the columns of ``vectors`` with Phi^T M Phi = I and Phi^T K Phi =
-    diag(w^2) (the reduced eigenproblem), and the w^2 ascending. Columns that are (nearly)
-    linearly dependent in the M norm (relative eigenvalue of the reduced mass below rtol)
-    are dropped instead of producing a singular reduced mass."""
-    Mr = vectors.T @ (M @ vectors)
-    Kr = vectors.T @ (K @ vectors)
-    Mr = 0.5 * (Mr + Mr.T)
-    Kr = 0.5 * (Kr + Kr.T)
-    s, U = la.eigh(Mr)
-    keep = s > rtol * s.max()
-    W = U[:, keep] / np.sqrt(s[keep])  # whitening: W^T Mr W = I
-    lam, V = la.eigh(W.T @ Kr @ W)
-    return np.ascontiguousarray(vectors @ (W @ V)), lam
+    diag(w^2) (the reduced eigenproblem), the w^2 ascending, and the indices of the columns
+    dropped as linearly dependent.
+
+    The columns are M-orthonormalised one after the other (Gram-Schmidt, each projection
+    done twice so the result is orthogonal to round-off). A column is dependent when what is
+    left of it after projecting out the columns before it is below rtol times its own M-norm:
+    the test is relative per column, so a column's scale (a static shape of 1e-8 m next to
+    unit-norm modes) does not decide whether it is kept."""
+    M = sp.csr_matrix(M)
+    Q = np.zeros((vectors.shape[0], vectors.shape[1]))
+    MQ = np.zeros_like(Q)
+    kept = 0
+    dropped = []
+    for j in range(vectors.shape[1]):
+        v = vectors[:, j]
+        peak = np.abs(v).max()
+        v = v / peak if peak > 0 else v  # scale to O(1) before squaring: no under- or overflow
+        norm = np.sqrt(max(float(v @ (M @ v)), 0.0))
+        for _ in range(2):
+            v = v - Q[:, :kept] @ (MQ[:, :kept].T @ v)
+        Mv = M @ v
+        rest = np.sqrt(max(float(v @ Mv), 0.0))
+        if norm == 0.0 or rest <= rtol * norm:
+            dropped.append(j)
+            continue
+        Q[:, kept] = v / rest
+        MQ[:, kept] = Mv / rest
+        kept += 1
+    Q = Q[:, :kept]
+    Kr = Q.T @ (K @ Q)
+    lam, V = la.eigh(0.5 * (Kr + Kr.T))
+    return np.ascontiguousarray(Q @ V), lam, np.array(dropped, dtype=np.int64)
 
 
 def craig_bampton(
@@ -194,8 +225,10 @@ def craig_bampton(
     fixed_dofs       further single DOFs held at zero (3*node + axis), e.g. for pinned supports
     extra_vectors    (3n, k) further shapes to include (e.g. modal derivatives); their fixed
                      DOFs are zeroed
-    returns          ModalBasis with r = n_modes + 3 * len(interface_nodes) + k vectors (fewer
-                     when extra vectors are linearly dependent)
+    returns          ModalBasis with r = n_modes + 3 * len(interface_nodes) + k vectors; an
+                     extra vector that is linearly dependent on the vectors before it (judged
+                     relative to its own norm, so its scale does not matter) is left out with
+                     a BasisWarning naming its column
 
     Raises ValueError for out-of-range nodes, interface nodes that are also fixed, or more
     modes than the free interior DOFs; RuntimeError when the body is not held (K_ii singular).
@@ -233,7 +266,12 @@ def craig_bampton(
     columns = []
     if n_modes:
         op = sla.LinearOperator(Kii.shape, matvec=factor.solve, dtype=np.float64)
-        lam, vecs = sla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM", OPinv=op)
+        # A fixed start vector: ARPACK's default is random, and the modes it returns then differ from
+        # call to call by its tolerance (a 2e-10 principal angle on a thin plate), so the same
+        # input would not give the same basis. A seeded random vector is as unlikely as ARPACK's own
+        # to be orthogonal to a wanted mode (a constant one would be, to every antisymmetric mode).
+        start = np.random.default_rng(0).standard_normal(interior.size)
+        lam, vecs = sla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM", OPinv=op, v0=start)
         order = np.argsort(lam)
         block = np.zeros((3 * n, n_modes))
         block[interior] = vecs[:, order]
@@ -246,7 +284,19 @@ def craig_bampton(
         columns.append(block)
     if extra is not None:
         columns.append(extra)
-    vectors, eigenvalues = orthonormalize(np.hstack(columns), K, M)
+    vectors, eigenvalues, dropped = orthonormalize(np.hstack(columns), K, M)
+    # The modes and constraint modes come first and are independent by construction (a
+    # fixed-boundary mode is zero on the interface, a constraint mode is not): what is dropped
+    # is an extra vector, named by its column in extra_vectors.
+    for j in dropped - (n_modes + boundary.size):
+        assert extra is not None  # only extra vectors can be dependent
+        why = (
+            "is linearly dependent on the modes and the extra vectors before it (what is new in it is below "
+            f"{DEPENDENCY_RTOL:g} of its own norm)"
+            if np.any(extra[:, j])
+            else "is zero outside the fixed DOFs"
+        )
+        warnings.warn(f"extra_vectors[:, {j}] {why}: it is left out of the basis", BasisWarning, stacklevel=2)
     # A sparse LU of a singular K_ii need not fail; a rigid-body mode in the basis shows.
     scale = float(np.median(K.diagonal()[interior] / M.diagonal()[interior]))
     if eigenvalues[0] <= 1e-9 * scale:
@@ -260,5 +310,5 @@ def craig_bampton(
         fixed_dofs=fixed,
         interface_nodes=np.unique(boundary // 3),
         n_normal_modes=int(n_modes),
-        n_extra=0 if extra is None else int(extra.shape[1]),
+        n_extra=0 if extra is None else int(extra.shape[1]) - len(dropped),
     )
