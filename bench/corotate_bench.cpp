@@ -98,7 +98,8 @@ Config config_by_name(const std::string& name, const Options& opt) {
   } else if (name == "direct") {
     c.solver = "direct";
     // named by the backend when one is asked for (--direct), so that runs compare in one table
-    if (opt.direct != SparseCholesky::Backend::Auto) c.name += std::string("_") + DirectSolver(opt.direct).backend_name();
+    if (opt.direct != SparseCholesky::Backend::Auto)
+      c.name += std::string("_") + DirectSolver(opt.direct).backend_name();
   } else {
     throw InvalidInput("unknown configuration '" + name + "'");
   }
@@ -317,7 +318,10 @@ int main(int argc, char** argv) {
         std::fflush(stdout);
       };
       if (opt.reference) print("reference", ref);
-      for (const auto& name : opt.configs) print(name, run(mesh, config_by_name(name, opt), opt));
+      for (const auto& name : opt.configs) {
+        const Config config = config_by_name(name, opt);
+        print(config.name, run(mesh, config, opt));
+      }
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "corotate_bench: %s\n", e.what());
