@@ -1,0 +1,76 @@
+// The inertia of a modal body that moves as a whole: a floating frame (origin p, rotation R)
+// carrying the reduced deformation, node i at p + R u_i with u_i = X_i + Psi_i zeta (X the
+// rest positions in the frame, Psi the modal basis, zeta the modal coordinates).
+//
+// Velocities are taken in the frame ("quasi-velocities"): w = (v, omega, eta) with
+// p' = R v, R' = R [omega]x, zeta' = eta. Node i then moves at R (v - [u_i]x omega + Psi_i eta),
+// and the kinetic energy with the consistent mass (m_ij I per node pair: the isotropic mass of
+// every solid element) is T = 1/2 w^T M(zeta) w, with
+//
+//   M = [ m I        -[c]x       A     ]     c = sum m_ij u_j        (first moment)
+//       [ [c]x        J          B     ]     J = sum m_ij [u_i]x^T [u_j]x   (inertia tensor)
+//       [ A^T         B^T        M_r   ]     B = sum m_ij [u_i]x Psi_j      A = sum m_ij Psi_j
+//
+// Everything in M is a sum over pairs of the fields F_0 = X, F_k = Psi_k (mode k) weighted by
+// m_ij, so it follows from the (r + 1)^2 3 x 3 moments Q_pq = sum m_ij F_p,i F_q,j^T and the
+// first moments s_p = sum m_ij F_p,j, computed once from the mesh (Shabana's inertia
+// invariants, in this compact form): with u = F_0 + sum zeta_k F_k, J = tr(Q_uu) I - Q_uu^T
+// and column l of B is the axial vector of Q_ul. A step then costs O(r^2), independent of
+// the mesh.
+//
+// The equations of motion (Boltzmann-Hamel, with the momenta pi = M w):
+//   pi_v'   + omega x pi_v                = F_ext        (forces in the frame)
+//   pi_w'   + omega x pi_w + v x pi_v     = tau_ext      (moments about the origin, in the frame)
+//   pi_eta' - dT/dzeta                    = Q_ext - K_r zeta - D_r eta
+// so M w' = (external and elastic forces) - M' w - (the gyroscopic terms) + dT/dzeta: the
+// velocity-dependent part is quadratic_velocity_forces().
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "corotate/common.hpp"
+
+namespace corotate {
+
+class FloatingFrameInertia {
+ public:
+  using Matrix = Eigen::MatrixXd;
+
+  // X: rest positions (3 x n) in the frame; node_mass: the consistent mass per node pair
+  // (n x n, symmetric: M = node_mass kron I3); basis: 3n x r (DOF 3 i + axis). Throws
+  // InvalidInput on mismatched sizes or non-finite values.
+  FloatingFrameInertia(const Nodes& X, const Eigen::SparseMatrix<double>& node_mass, const Matrix& basis);
+
+  Index num_modes() const { return r_; }
+  double mass() const { return mass_; }
+  // The reduced mass Psi^T M Psi (r x r).
+  const Matrix& modal_mass() const { return modal_mass_; }
+
+  // M(zeta), (6 + r) square, into M (sized on first use).
+  void mass_matrix(const Vec& zeta, Matrix& M) const;
+  // The velocity-dependent forces f with M w' = f + (applied and elastic forces): the
+  // gyroscopic terms of the frame, -M'(zeta, eta) w and dT/dzeta.
+  void quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const;
+  // The frame-fixed first moment c(zeta) and inertia tensor J(zeta) about the origin.
+  Vec3 first_moment(const Vec& zeta) const;
+  Mat3 inertia(const Vec& zeta) const;
+
+ private:
+  // Q_pq for the combination u = sum_p a_p F_p on the left and F_q on the right.
+  Mat3 left_moment(const Vec& a, Index q) const;
+  // The moments for u (a = (1, zeta)) against every field, and Q_uu.
+  void moments_of(const Vec& zeta, std::vector<Mat3>& u_moments, Mat3& uu) const;
+  const Mat3& Q(Index p, Index q) const { return moments_[p * (r_ + 1) + q]; }
+
+  Index r_ = 0;
+  double mass_ = 0.0;
+  std::vector<Mat3> moments_;  // (r + 1)^2 of them, row p, column q
+  std::vector<Vec3> first_;    // s_p
+  Matrix modal_mass_;
+  // Work space of the const members (a step allocates nothing after the first).
+  mutable std::vector<Mat3> u_moments_, u_moments_rate_;
+  mutable Vec coefficients_, rate_coefficients_;
+};
+
+}  // namespace corotate

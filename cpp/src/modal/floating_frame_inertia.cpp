@@ -1,0 +1,145 @@
+#include "corotate/modal/floating_frame_inertia.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
+
+namespace corotate {
+
+namespace {
+
+// The axial vector of P's antisymmetric part: sum m_ij a_i x b_j for P = sum m_ij a_i b_j^T.
+Vec3 axial(const Mat3& P) { return Vec3(P(1, 2) - P(2, 1), P(2, 0) - P(0, 2), P(0, 1) - P(1, 0)); }
+
+// sum m_ij [a_i]x^T [b_j]x for P = sum m_ij a_i b_j^T: tr(P) I - P^T.
+Mat3 cross_inertia(const Mat3& P) { return P.trace() * Mat3::Identity() - P.transpose(); }
+
+}  // namespace
+
+FloatingFrameInertia::FloatingFrameInertia(const Nodes& X, const Eigen::SparseMatrix<double>& node_mass,
+                                           const Matrix& basis) {
+  const Index n = X.cols();
+  if (node_mass.rows() != n || node_mass.cols() != n)
+    throw InvalidInput("floating frame: the node mass matrix must be " + std::to_string(n) + " x " + std::to_string(n) +
+                       " (one row per node)");
+  if (basis.rows() != 3 * n)
+    throw InvalidInput("floating frame: the basis must have 3n = " + std::to_string(3 * n) + " rows, got " +
+                       std::to_string(basis.rows()));
+  if (!X.allFinite() || !basis.allFinite())
+    throw InvalidInput("floating frame: the rest positions and the basis must be finite");
+  r_ = basis.cols();
+  const Index fields = r_ + 1;
+  // Field p of node i: F_0 = X_i, F_k = Psi_k at node i.
+  auto field = [&](Index p, Index i) -> Vec3 {
+    return p == 0 ? Vec3(X.col(i)) : Vec3(basis.block<3, 1>(3 * i, p - 1));
+  };
+  moments_.assign(fields * fields, Mat3::Zero());
+  first_.assign(fields, Vec3::Zero());
+  Eigen::Matrix<double, 3, Eigen::Dynamic> left(3, fields), right(3, fields);
+  for (Index j = 0; j < n; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(node_mass, j); it; ++it) {
+      const Index i = it.row();
+      const double m = it.value();
+      if (!std::isfinite(m)) throw InvalidInput("floating frame: the node mass matrix must be finite");
+      mass_ += m;
+      for (Index p = 0; p < fields; ++p) left.col(p) = field(p, i), right.col(p) = field(p, j);
+      for (Index p = 0; p < fields; ++p) {
+        first_[p] += m * right.col(p);
+        for (Index q = 0; q < fields; ++q) moments_[p * fields + q] += m * left.col(p) * right.col(q).transpose();
+      }
+    }
+  if (!(mass_ > 0.0)) throw InvalidInput("floating frame: the body's mass must be positive");
+  modal_mass_.resize(r_, r_);
+  for (Index k = 0; k < r_; ++k)
+    for (Index l = 0; l < r_; ++l) modal_mass_(k, l) = Q(k + 1, l + 1).trace();
+}
+
+void FloatingFrameInertia::moments_of(const Vec& zeta, std::vector<Mat3>& u_moments, Mat3& uu) const {
+  const Index fields = r_ + 1;
+  u_moments.resize(fields);
+  uu.setZero();
+  for (Index q = 0; q < fields; ++q) {
+    Mat3 sum = Q(0, q);
+    for (Index k = 0; k < r_; ++k) sum += zeta[k] * Q(k + 1, q);
+    u_moments[q] = sum;
+    uu += (q == 0 ? 1.0 : zeta[q - 1]) * sum;
+  }
+}
+
+Vec3 FloatingFrameInertia::first_moment(const Vec& zeta) const {
+  Vec3 c = first_[0];
+  for (Index k = 0; k < r_; ++k) c += zeta[k] * first_[k + 1];
+  return c;
+}
+
+Mat3 FloatingFrameInertia::inertia(const Vec& zeta) const {
+  Mat3 uu;
+  moments_of(zeta, u_moments_, uu);
+  return cross_inertia(uu);
+}
+
+void FloatingFrameInertia::mass_matrix(const Vec& zeta, Matrix& M) const {
+  if (zeta.size() != r_) throw InvalidInput("floating frame: " + std::to_string(r_) + " modal coordinates expected");
+  const Index size = 6 + r_;
+  M.resize(size, size);
+  Mat3 uu;
+  moments_of(zeta, u_moments_, uu);
+  const Vec3 c = first_moment(zeta);
+  M.setZero();
+  M.block<3, 3>(0, 0) = mass_ * Mat3::Identity();
+  M.block<3, 3>(0, 3) = -cross_matrix(c);
+  M.block<3, 3>(3, 0) = cross_matrix(c);
+  M.block<3, 3>(3, 3) = cross_inertia(uu);
+  for (Index k = 0; k < r_; ++k) {
+    M.block<3, 1>(0, 6 + k) = first_[k + 1];           // A
+    M.block<3, 1>(3, 6 + k) = axial(u_moments_[k + 1]);  // B
+  }
+  M.block(6, 0, r_, 6) = M.block(0, 6, 6, r_).transpose();
+  M.bottomRightCorner(r_, r_) = modal_mass_;
+}
+
+void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const {
+  if (zeta.size() != r_ || w.size() != 6 + r_)
+    throw InvalidInput("floating frame: " + std::to_string(r_) + " modal coordinates and " + std::to_string(6 + r_) +
+                       " velocities expected");
+  const Index fields = r_ + 1;
+  const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);
+  const auto eta = w.tail(r_);
+  Mat3 uu;
+  moments_of(zeta, u_moments_, uu);
+  // Rates along zeta' = eta: Q_{u'q} = sum_k eta_k Q_kq, Q_{u'u} = sum_q a_q Q_{u'q}.
+  u_moments_rate_.resize(fields);
+  Mat3 rate_uu = Mat3::Zero();
+  for (Index q = 0; q < fields; ++q) {
+    Mat3 sum = Mat3::Zero();
+    for (Index k = 0; k < r_; ++k) sum += eta[k] * Q(k + 1, q);
+    u_moments_rate_[q] = sum;
+    rate_uu += (q == 0 ? 1.0 : zeta[q - 1]) * sum;
+  }
+  const Vec3 c = first_moment(zeta);
+  Vec3 c_rate = Vec3::Zero(), B_eta = Vec3::Zero(), B_rate_eta = Vec3::Zero();
+  for (Index k = 0; k < r_; ++k) {
+    c_rate += eta[k] * first_[k + 1];
+    B_eta += eta[k] * axial(u_moments_[k + 1]);
+    B_rate_eta += eta[k] * axial(u_moments_rate_[k + 1]);
+  }
+  const Mat3 J = cross_inertia(uu);
+  const Mat3 J_rate = 2.0 * rate_uu.trace() * Mat3::Identity() - (rate_uu + rate_uu.transpose());
+  Vec3 A_eta = Vec3::Zero();
+  for (Index k = 0; k < r_; ++k) A_eta += eta[k] * first_[k + 1];
+  const Vec3 pi_v = mass_ * v - c.cross(omega) + A_eta;
+  const Vec3 pi_w = c.cross(v) + J * omega + B_eta;
+  f.resize(6 + r_);
+  f.segment<3>(0) = c_rate.cross(omega) - omega.cross(pi_v);
+  f.segment<3>(3) = -(c_rate.cross(v) + J_rate * omega + B_rate_eta) - omega.cross(pi_w) - v.cross(pi_v);
+  const double omega2 = omega.squaredNorm();
+  for (Index k = 0; k < r_; ++k) {
+    const Mat3& Qku_t = u_moments_[k + 1];  // Q_{u,k} = Q_{k,u}^T
+    const double dT = -v.dot(first_[k + 1].cross(omega)) + Qku_t.trace() * omega2 - omega.dot(Qku_t * omega) -
+                      omega.dot(axial(u_moments_rate_[k + 1]));
+    f[6 + k] = -omega.dot(axial(u_moments_rate_[k + 1])) + dT;
+  }
+}
+
+}  // namespace corotate
