@@ -99,47 +99,71 @@ void FloatingFrameInertia::mass_matrix(const Vec& zeta, Matrix& M) const {
   M.bottomRightCorner(r_, r_) = modal_mass_;
 }
 
-void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const {
+void FloatingFrameInertia::check_sizes(const Vec& zeta, const Vec& w) const {
   if (zeta.size() != r_ || w.size() != 6 + r_)
     throw InvalidInput("floating frame: " + std::to_string(r_) + " modal coordinates and " + std::to_string(6 + r_) +
                        " velocities expected");
-  const Index fields = r_ + 1;
-  const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);
-  const auto eta = w.tail(r_);
-  Mat3 uu;
-  moments_of(zeta, u_moments_, uu);
+}
+
+void FloatingFrameInertia::moment_rates(const Vec& zeta, const Eigen::Ref<const Vec>& eta, Mat3& rate_uu) const {
   // Rates along zeta' = eta: Q_{u'q} = sum_k eta_k Q_kq, Q_{u'u} = sum_q a_q Q_{u'q}.
+  const Index fields = r_ + 1;
   u_moments_rate_.resize(fields);
-  Mat3 rate_uu = Mat3::Zero();
+  rate_uu.setZero();
   for (Index q = 0; q < fields; ++q) {
     Mat3 sum = Mat3::Zero();
     for (Index k = 0; k < r_; ++k) sum += eta[k] * Q(k + 1, q);
     u_moments_rate_[q] = sum;
     rate_uu += (q == 0 ? 1.0 : zeta[q - 1]) * sum;
   }
+}
+
+void FloatingFrameInertia::energy_gradient(const Vec3& v, const Vec3& omega, Vec& out) const {
+  // dT/dzeta_k = -v . (A_k x omega) + tr(Q_uk) |omega|^2 - omega^T Q_uk omega + omega^T dB/dzeta_k eta,
+  // the last omega . axial(sum_l eta_l Q_kl) = -omega . axial(Q_{u'k}) (Q_lk = Q_kl^T).
+  const double omega2 = omega.squaredNorm();
+  for (Index k = 0; k < r_; ++k) {
+    const Mat3& Quk = u_moments_[k + 1];
+    out[k] = -v.dot(first_[k + 1].cross(omega)) + Quk.trace() * omega2 - omega.dot(Quk * omega) -
+             omega.dot(axial(u_moments_rate_[k + 1]));
+  }
+}
+
+void FloatingFrameInertia::kinetic_energy_gradient(const Vec& zeta, const Vec& w, Vec& gradient) const {
+  check_sizes(zeta, w);
+  Mat3 uu, rate_uu;
+  moments_of(zeta, u_moments_, uu);
+  moment_rates(zeta, w.tail(r_), rate_uu);
+  gradient.resize(r_);
+  energy_gradient(w.segment<3>(0), w.segment<3>(3), gradient);
+}
+
+void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const {
+  check_sizes(zeta, w);
+  const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);
+  const auto eta = w.tail(r_);
+  Mat3 uu, rate_uu;
+  moments_of(zeta, u_moments_, uu);
+  moment_rates(zeta, eta, rate_uu);
   const Vec3 c = first_moment(zeta);
   Vec3 c_rate = Vec3::Zero(), B_eta = Vec3::Zero(), B_rate_eta = Vec3::Zero();
   for (Index k = 0; k < r_; ++k) {
-    c_rate += eta[k] * first_[k + 1];
+    c_rate += eta[k] * first_[k + 1];  // (also A eta)
     B_eta += eta[k] * axial(u_moments_[k + 1]);
     B_rate_eta += eta[k] * axial(u_moments_rate_[k + 1]);
   }
   const Mat3 J = cross_inertia(uu);
   const Mat3 J_rate = 2.0 * rate_uu.trace() * Mat3::Identity() - (rate_uu + rate_uu.transpose());
-  Vec3 A_eta = Vec3::Zero();
-  for (Index k = 0; k < r_; ++k) A_eta += eta[k] * first_[k + 1];
-  const Vec3 pi_v = mass_ * v - c.cross(omega) + A_eta;
+  const Vec3 pi_v = mass_ * v - c.cross(omega) + c_rate;
   const Vec3 pi_w = c.cross(v) + J * omega + B_eta;
   f.resize(6 + r_);
   f.segment<3>(0) = c_rate.cross(omega) - omega.cross(pi_v);
   f.segment<3>(3) = -(c_rate.cross(v) + J_rate * omega + B_rate_eta) - omega.cross(pi_w) - v.cross(pi_v);
-  const double omega2 = omega.squaredNorm();
-  for (Index k = 0; k < r_; ++k) {
-    const Mat3& Qku_t = u_moments_[k + 1];  // Q_{u,k} = Q_{k,u}^T
-    const double dT = -v.dot(first_[k + 1].cross(omega)) + Qku_t.trace() * omega2 - omega.dot(Qku_t * omega) -
-                      omega.dot(axial(u_moments_rate_[k + 1]));
-    f[6 + k] = -omega.dot(axial(u_moments_rate_[k + 1])) + dT;
-  }
+  auto modal = f.tail(r_);
+  Vec& gradient = gradient_;
+  gradient.resize(r_);
+  energy_gradient(v, omega, gradient);
+  for (Index k = 0; k < r_; ++k) modal[k] = -omega.dot(axial(u_moments_rate_[k + 1])) + gradient[k];  // -B'^T omega
 }
 
 }  // namespace corotate

@@ -52,6 +52,11 @@ class FloatingFrameInertia {
   // The velocity-dependent forces f with M w' = f + (applied and elastic forces): the
   // gyroscopic terms of the frame, -M'(zeta, eta) w and dT/dzeta.
   void quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const;
+  // dT/dzeta at (zeta, w): the modal coordinates' share of the velocity-dependent forces.
+  void kinetic_energy_gradient(const Vec& zeta, const Vec& w, Vec& gradient) const;
+  // A's column k: sum m_ij Psi_k at node j (mode k's first moment; the modal load of a
+  // uniform acceleration a in the frame is -a . A_k).
+  const Vec3& modal_first_moment(Index k) const { return first_[k + 1]; }
   // The frame-fixed first moment c(zeta) and inertia tensor J(zeta) about the origin.
   Vec3 first_moment(const Vec& zeta) const;
   Mat3 inertia(const Vec& zeta) const;
@@ -62,6 +67,11 @@ class FloatingFrameInertia {
   // The moments for u (a = (1, zeta)) against every field, and Q_uu.
   void moments_of(const Vec& zeta, std::vector<Mat3>& u_moments, Mat3& uu) const;
   const Mat3& Q(Index p, Index q) const { return moments_[p * (r_ + 1) + q]; }
+  void check_sizes(const Vec& zeta, const Vec& w) const;
+  // u_moments_rate_ (and Q_{u'u}) along eta, after moments_of.
+  void moment_rates(const Vec& zeta, const Eigen::Ref<const Vec>& eta, Mat3& rate_uu) const;
+  // dT/dzeta from u_moments_ and u_moments_rate_.
+  void energy_gradient(const Vec3& v, const Vec3& omega, Vec& out) const;
 
   Index r_ = 0;
   double mass_ = 0.0;
@@ -70,7 +80,7 @@ class FloatingFrameInertia {
   Matrix modal_mass_;
   // Work space of the const members (a step allocates nothing after the first).
   mutable std::vector<Mat3> u_moments_, u_moments_rate_;
-  mutable Vec coefficients_, rate_coefficients_;
+  mutable Vec gradient_;
 };
 
 }  // namespace corotate

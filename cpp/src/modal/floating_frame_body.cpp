@@ -1,0 +1,145 @@
+#include "corotate/modal/floating_frame_body.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
+
+namespace corotate {
+
+namespace {
+
+// The Cayley map: a rotation close to exp([a]x), exactly orthogonal.
+Mat3 cayley(const Vec3& a) {
+  const Mat3 A = cross_matrix(a);
+  return Mat3::Identity() + (4.0 / (4.0 + a.squaredNorm())) * (A + 0.5 * A * A);
+}
+
+}  // namespace
+
+FloatingFrameBody::FloatingFrameBody(FloatingFrameInertia inertia, Eigen::MatrixXd stiffness, Eigen::MatrixXd damping)
+    : inertia_(std::move(inertia)), stiffness_(std::move(stiffness)), damping_(std::move(damping)) {
+  const Index r = inertia_.num_modes();
+  if (stiffness_.rows() != r || stiffness_.cols() != r)
+    throw InvalidInput("floating frame: the modal stiffness must be " + std::to_string(r) + " x " + std::to_string(r));
+  if (damping_.size() == 0) damping_ = Eigen::MatrixXd::Zero(r, r);
+  if (damping_.rows() != r || damping_.cols() != r)
+    throw InvalidInput("floating frame: the modal damping must be " + std::to_string(r) + " x " + std::to_string(r));
+  if (!stiffness_.allFinite() || !damping_.allFinite())
+    throw InvalidInput("floating frame: the modal stiffness and damping must be finite");
+}
+
+FloatingFrameState FloatingFrameBody::rest_state() const {
+  FloatingFrameState s;
+  s.zeta = Vec::Zero(inertia_.num_modes());
+  s.velocity = Vec::Zero(6 + inertia_.num_modes());
+  return s;
+}
+
+void FloatingFrameBody::check(const FloatingFrameState& s) const {
+  const Index r = inertia_.num_modes();
+  if (s.zeta.size() != r || s.velocity.size() != 6 + r)
+    throw InvalidInput("floating frame: a state of " + std::to_string(r) + " modal coordinates and " +
+                       std::to_string(6 + r) + " velocities expected");
+  if (!s.position.allFinite() || !s.rotation.allFinite() || !s.zeta.allFinite() || !s.velocity.allFinite())
+    throw InvalidInput("floating frame: the state is not finite");
+  if ((s.rotation.transpose() * s.rotation - Mat3::Identity()).norm() > 1e-9 || s.rotation.determinant() < 0)
+    throw InvalidInput("floating frame: the frame's rotation is not a rotation matrix");
+}
+
+void FloatingFrameBody::balance_at(const FloatingFrameState& s, Balance& b) const {
+  const Index r = inertia_.num_modes();
+  inertia_.mass_matrix(s.zeta, M_);
+  pi_.noalias() = M_ * s.velocity;
+  b.linear = s.rotation * pi_.segment<3>(0);
+  b.angular = s.position.cross(b.linear) + s.rotation * pi_.segment<3>(3);
+  b.modal_momentum = pi_.tail(r);
+  // Loads: gravity on every node, the elastic and damping forces, and dT/dzeta.
+  const double m = inertia_.mass();
+  b.force = m * gravity_;
+  b.torque = s.position.cross(b.force) + (s.rotation * inertia_.first_moment(s.zeta)).cross(gravity_);
+  inertia_.kinetic_energy_gradient(s.zeta, s.velocity, gradient_);
+  const Vec3 g_frame = s.rotation.transpose() * gravity_;
+  b.modal_load = gradient_;
+  for (Index k = 0; k < r; ++k) b.modal_load[k] += g_frame.dot(inertia_.modal_first_moment(k));
+  b.modal_load.noalias() -= stiffness_ * s.zeta;
+  b.modal_load.noalias() -= damping_ * s.velocity.tail(r);
+}
+
+FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double h) {
+  if (!(h > 0.0) || !std::isfinite(h)) throw InvalidInput("floating frame: the time step must be positive and finite");
+  check(state);
+  const Index r = inertia_.num_modes(), size = 6 + r;
+  balance_at(state, start_);
+  trial_ = state;
+  const double scale = start_.linear.norm() + start_.angular.norm() + start_.modal_momentum.norm() +
+                       h * (start_.force.norm() + start_.torque.norm() + start_.modal_load.norm()) + 1e-300;
+  residual_.resize(size);
+  FloatingFrameStepStats stats;
+  for (stats.iterations = 1; stats.iterations <= kMaxIterations; ++stats.iterations) {
+    // The end of the step from the trial velocities.
+    const Vec& w0 = state.velocity;
+    const Vec& w1 = trial_.velocity;
+    trial_.rotation = state.rotation * cayley(0.5 * h * (w0.segment<3>(3) + w1.segment<3>(3)));
+    trial_.position =
+        state.position + 0.5 * h * (state.rotation * w0.segment<3>(0) + trial_.rotation * w1.segment<3>(0));
+    trial_.zeta = state.zeta + 0.5 * h * (w0.tail(r) + w1.tail(r));
+    balance_at(trial_, end_);
+    residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
+    residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
+    residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
+    stats.residual = residual_.norm() / scale;
+    if (!std::isfinite(stats.residual)) break;
+    if (stats.residual <= kTolerance) {
+      state = trial_;
+      return stats;
+    }
+    // The leading part of the Jacobian: the momenta's dependence through M at the end (turned
+    // to the world frame), and the modal stiffness and damping through zeta and eta.
+    jacobian_.resize(size, size);
+    const Mat3& R1 = trial_.rotation;
+    jacobian_.topRows(3).noalias() = R1 * M_.topRows(3);
+    jacobian_.middleRows(3, 3).noalias() = R1 * M_.middleRows(3, 3);
+    jacobian_.middleRows(3, 3).noalias() += cross_matrix(trial_.position) * jacobian_.topRows(3);
+    // The rotation's dependence on omega_{n+1} (dR = R [dtheta]x, dtheta ~ h/2 domega) and
+    // the position's on v_{n+1} (dp = h/2 R dv): small for small h |omega| in relative terms,
+    // but not next to the first moment's coupling when the frame's origin is near the centre
+    // of mass (where M_v,omega is small).
+    const Mat3 turn_linear = -0.5 * h * R1 * cross_matrix(pi_.segment<3>(0));
+    jacobian_.block<3, 3>(0, 3) += turn_linear;
+    jacobian_.block<3, 3>(3, 3) +=
+        cross_matrix(trial_.position) * turn_linear - 0.5 * h * R1 * cross_matrix(pi_.segment<3>(3));
+    jacobian_.block<3, 3>(3, 0) -= 0.5 * h * cross_matrix(end_.linear) * R1;
+    jacobian_.bottomRows(r) = M_.bottomRows(r);
+    jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
+    lu_.compute(jacobian_);
+    correction_ = lu_.solve(residual_);
+    trial_.velocity -= correction_;
+  }
+  throw SolverFailure("floating frame: the implicit step did not converge (relative residual " +
+                      std::to_string(stats.residual) + "); the state was kept. A smaller time step helps.");
+}
+
+double FloatingFrameBody::energy(const FloatingFrameState& s) const {
+  check(s);
+  inertia_.mass_matrix(s.zeta, M_);
+  const double kinetic = 0.5 * s.velocity.dot(M_ * s.velocity);
+  const double elastic = 0.5 * s.zeta.dot(stiffness_ * s.zeta);
+  const double potential = -gravity_.dot(inertia_.mass() * s.position + s.rotation * inertia_.first_moment(s.zeta));
+  return kinetic + elastic + potential;
+}
+
+Vec3 FloatingFrameBody::linear_momentum(const FloatingFrameState& s) const {
+  check(s);
+  inertia_.mass_matrix(s.zeta, M_);
+  return s.rotation * (M_.topRows(3) * s.velocity);
+}
+
+Vec3 FloatingFrameBody::angular_momentum(const FloatingFrameState& s) const {
+  check(s);
+  inertia_.mass_matrix(s.zeta, M_);
+  const Vec3 linear = s.rotation * (M_.topRows(3) * s.velocity);
+  return s.position.cross(linear) + s.rotation * (M_.middleRows(3, 3) * s.velocity);
+}
+
+}  // namespace corotate
