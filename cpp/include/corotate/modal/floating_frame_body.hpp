@@ -51,7 +51,7 @@ class FloatingFrameBody {
   Vec3 angular_momentum(const FloatingFrameState& s) const;
 
   static constexpr int kMaxIterations = 50;
-  static constexpr double kTolerance = 1e-13;
+  static constexpr double kTolerance = 1e-14;
 
  private:
   struct Balance {  // the momenta and the loads at one end of the step
@@ -60,13 +60,14 @@ class FloatingFrameBody {
   };
   void balance_at(const FloatingFrameState& s, Balance& b) const;
   void check(const FloatingFrameState& s) const;
+  void predict(const FloatingFrameState& s, double h, Vec& w);
 
   FloatingFrameInertia inertia_;
   Eigen::MatrixXd stiffness_, damping_;
   Vec3 gravity_ = Vec3::Zero();
   // Work space (sized on first use).
   mutable Eigen::MatrixXd M_;
-  mutable Vec pi_, gradient_;
+  mutable Vec pi_, gradient_, force_;
   Eigen::MatrixXd jacobian_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Vec residual_, correction_;
