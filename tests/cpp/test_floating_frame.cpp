@@ -244,3 +244,63 @@ TEST(floating_frame_step_refuses_bad_input_and_keeps_the_state) {
   CHECK_THROWS(FloatingFrameBody(FloatingFrameInertia(b.X, b.node_mass, b.basis), Eigen::MatrixXd::Identity(3, 3)),
                InvalidInput);
 }
+
+TEST(spherical_support_keeps_the_vertical_angular_momentum_about_its_point) {
+  // A flexible body hanging from a spherical joint at its frame's origin, spinning and
+  // swinging under gravity: the moment about the vertical through the joint is zero, so that
+  // component of the angular momentum about the joint is kept to round-off; the energy
+  // (with the potential) stays bounded.
+  const FlexibleBody b = flexible_body(3);
+  FloatingFrameBody body(FloatingFrameInertia(b.X, b.node_mass, b.basis), b.modal_stiffness);
+  body.set_gravity(Vec3(0, 0, -9.81));
+  body.set_support(FrameSupport::Spherical);
+  FloatingFrameState s = spinning_state(body);
+  s.velocity.head<3>().setZero();
+  auto vertical_momentum = [&](const FloatingFrameState& x) {
+    return (body.angular_momentum(x) - x.position.cross(body.linear_momentum(x))).z();
+  };
+  const double h0 = vertical_momentum(s), e0 = body.energy(s);
+  const Vec3 p0 = s.position;
+  double worst_energy = 0.0;
+  for (int step = 0; step < 500; ++step) {
+    body.step(s, 5e-3);
+    worst_energy = std::max(worst_energy, std::abs(body.energy(s) - e0) / std::abs(e0));
+  }
+  CHECK(std::abs(vertical_momentum(s) - h0) <= 1e-11 * std::abs(h0));
+  CHECK(s.position == p0);
+  CHECK(worst_energy < 1e-3);
+  // A state whose origin moves is refused.
+  s.velocity[0] = 1.0;
+  CHECK_THROWS(body.step(s, 5e-3), InvalidInput);
+}
+
+TEST(revolute_support_swings_a_stiff_body_as_the_rigid_compound_pendulum) {
+  // The modes made very stiff: the body swings about the frame's z axis (gravity along -y)
+  // as a rigid pendulum, theta'' = a . ((R(theta) c) x g) / (a . J a), integrated finely.
+  const FlexibleBody b = flexible_body(2);
+  const Eigen::MatrixXd stiff = 1e9 * b.modal_stiffness;
+  FloatingFrameBody body(FloatingFrameInertia(b.X, b.node_mass, b.basis), stiff);
+  const Vec3 g(0, -9.81, 0);
+  body.set_gravity(g);
+  body.set_support(FrameSupport::Revolute, Vec3::UnitZ());
+  FloatingFrameState s = body.rest_state();
+  const Vec3 c = body.inertia().first_moment(s.zeta);
+  const double inertia_z = body.inertia().inertia(s.zeta)(2, 2);
+  auto acceleration = [&](double theta) {
+    return (Eigen::AngleAxisd(theta, Vec3::UnitZ()).toRotationMatrix() * c).cross(g).z() / inertia_z;
+  };
+  double theta = 0.0, rate = 0.0;
+  const double dt = 1e-4;
+  for (int step = 0; step < 10000; ++step) {  // 1 s, Runge-Kutta
+    const double k1 = rate, l1 = acceleration(theta), k2 = rate + dt / 2 * l1, l2 = acceleration(theta + dt / 2 * k1),
+                 k3 = rate + dt / 2 * l2, l3 = acceleration(theta + dt / 2 * k2), k4 = rate + dt * l3,
+                 l4 = acceleration(theta + dt * k3);
+    theta += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    rate += dt / 6 * (l1 + 2 * l2 + 2 * l3 + l4);
+  }
+  for (int step = 0; step < 1000; ++step) body.step(s, 1e-3);
+  const double angle = std::atan2(s.rotation(1, 0), s.rotation(0, 0));
+  CHECK(std::abs(theta) > 0.3);  // it swung
+  CHECK(std::abs(angle - theta) < 1e-3 * std::abs(theta));
+  CHECK((s.rotation * Vec3::UnitZ() - Vec3::UnitZ()).norm() < 1e-12);  // about its axis only
+}

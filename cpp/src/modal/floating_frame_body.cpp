@@ -82,13 +82,66 @@ void FloatingFrameBody::predict(const FloatingFrameState& s, double h, Vec& w) {
   w = s.velocity + h * lu_.solve(force_);
 }
 
+void FloatingFrameBody::set_support(FrameSupport support, const Vec3& axis) {
+  if (support == FrameSupport::Revolute) {
+    if (!axis.allFinite() || !(axis.norm() > 0.0))
+      throw InvalidInput("floating frame: a revolute support needs a nonzero, finite axis");
+    axis_ = axis.normalized();
+  }
+  support_ = support;
+}
+
+void FloatingFrameBody::check_support(const FloatingFrameState& s) const {
+  if (support_ == FrameSupport::Free) return;
+  const Vec3 v = s.velocity.segment<3>(0), omega = s.velocity.segment<3>(3);
+  const double scale = 1e-12 * (1.0 + omega.norm());
+  if (v.norm() > scale)
+    throw InvalidInput("floating frame: the frame's origin is held by the support, but its velocity is not zero");
+  if (support_ == FrameSupport::Revolute && (omega - omega.dot(axis_) * axis_).norm() > scale)
+    throw InvalidInput("floating frame: the angular velocity is not along the revolute support's axis");
+}
+
+void FloatingFrameBody::constrain(const FloatingFrameState& s, Vec& w) const {
+  (void)s;
+  if (support_ == FrameSupport::Free) return;
+  w.segment<3>(0).setZero();
+  if (support_ == FrameSupport::Revolute) w.segment<3>(3) = w.segment<3>(3).dot(axis_) * axis_;
+}
+
+void FloatingFrameBody::support_maps(const FloatingFrameState& s) {
+  // free_velocities_ (6 + r x d): w = free_velocities_ z; projection_ (d x 6 + r): the
+  // balances without the reactions. The origin p is held, so the angular balance about p is
+  // the one about the world origin minus p x the linear one; a revolute support also leaves
+  // the moment about its axis (a_w = R a, fixed in the world) alone.
+  const Index r = inertia_.num_modes(), size = 6 + r;
+  const bool revolute = support_ == FrameSupport::Revolute;
+  const Index d = (revolute ? 1 : 3) + r;
+  free_velocities_.setZero(size, d);
+  projection_.setZero(d, size);
+  const Mat3 about_p = -cross_matrix(s.position);
+  if (revolute) {
+    free_velocities_.block<3, 1>(3, 0) = axis_;
+    const Vec3 a = s.rotation * axis_;
+    projection_.block<1, 3>(0, 0) = a.transpose() * about_p;
+    projection_.block<1, 3>(0, 3) = a.transpose();
+  } else {
+    free_velocities_.block<3, 3>(3, 0).setIdentity();
+    projection_.block<3, 3>(0, 0) = about_p;
+    projection_.block<3, 3>(0, 3).setIdentity();
+  }
+  free_velocities_.bottomRightCorner(r, r).setIdentity();
+  projection_.bottomRightCorner(r, r).setIdentity();
+}
+
 FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double h) {
   if (!(h > 0.0) || !std::isfinite(h)) throw InvalidInput("floating frame: the time step must be positive and finite");
   check(state);
   const Index r = inertia_.num_modes(), size = 6 + r;
   balance_at(state, start_);
+  check_support(state);
   trial_ = state;
   predict(state, h, trial_.velocity);
+  constrain(state, trial_.velocity);
   const double scale = start_.linear.norm() + start_.angular.norm() + start_.modal_momentum.norm() +
                        h * (start_.force.norm() + start_.torque.norm() + start_.modal_load.norm()) + 1e-300;
   residual_.resize(size);
@@ -105,7 +158,12 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
     residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
     residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
     residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
-    stats.residual = residual_.norm() / scale;
+    if (support_ != FrameSupport::Free) {
+      support_maps(state);
+      stats.residual = (projection_ * residual_).norm() / scale;
+    } else {
+      stats.residual = residual_.norm() / scale;
+    }
     if (!std::isfinite(stats.residual)) break;
     if (stats.residual <= kTolerance) {
       state = trial_;
@@ -129,8 +187,15 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
     jacobian_.block<3, 3>(3, 0) -= 0.5 * h * cross_matrix(end_.linear) * R1;
     jacobian_.bottomRows(r) = M_.bottomRows(r);
     jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
-    lu_.compute(jacobian_);
-    correction_ = lu_.solve(residual_);
+    if (support_ == FrameSupport::Free) {
+      lu_.compute(jacobian_);
+      correction_ = lu_.solve(residual_);
+    } else {  // the balances the support's reactions do not enter, in the velocities it leaves free
+      support_maps(state);
+      reduced_jacobian_.noalias() = projection_ * jacobian_ * free_velocities_;
+      lu_.compute(reduced_jacobian_);
+      correction_.noalias() = free_velocities_ * lu_.solve(projection_ * residual_);
+    }
     trial_.velocity -= correction_;
   }
   throw SolverFailure("floating frame: the implicit step did not converge (relative residual " +

@@ -28,6 +28,11 @@ struct FloatingFrameState {
   Vec velocity;                      // w = (v, omega, eta) in the frame (6 + r)
 };
 
+// What holds the frame: nothing, a spherical joint at its origin, or a revolute joint through
+// its origin about an axis fixed in the frame (and in the world). The origin then stays put
+// and the balances the joint's reactions enter are left out of the step.
+enum class FrameSupport { Free, Spherical, Revolute };
+
 struct FloatingFrameStepStats {
   int iterations = 0;
   double residual = 0.0;  // relative, of the last iteration
@@ -39,6 +44,9 @@ class FloatingFrameBody {
   FloatingFrameBody(FloatingFrameInertia inertia, Eigen::MatrixXd stiffness, Eigen::MatrixXd damping = {});
   const FloatingFrameInertia& inertia() const { return inertia_; }
   void set_gravity(const Vec3& g) { gravity_ = g; }
+  // axis: for Revolute, in the frame (normalised here). The state stepped must then have a
+  // zero origin velocity (and, revolute, its angular velocity along the axis).
+  void set_support(FrameSupport support, const Vec3& axis = Vec3::UnitZ());
   // A state at rest at the frame's identity pose with zeta = 0.
   FloatingFrameState rest_state() const;
   // One step of h; throws InvalidInput for a bad state or step, SolverFailure when the
@@ -61,10 +69,16 @@ class FloatingFrameBody {
   void balance_at(const FloatingFrameState& s, Balance& b) const;
   void check(const FloatingFrameState& s) const;
   void predict(const FloatingFrameState& s, double h, Vec& w);
+  void check_support(const FloatingFrameState& s) const;
+  void constrain(const FloatingFrameState& s, Vec& w) const;
+  void support_maps(const FloatingFrameState& s);
 
   FloatingFrameInertia inertia_;
   Eigen::MatrixXd stiffness_, damping_;
   Vec3 gravity_ = Vec3::Zero();
+  FrameSupport support_ = FrameSupport::Free;
+  Vec3 axis_ = Vec3::UnitZ();
+  Eigen::MatrixXd free_velocities_, projection_, reduced_jacobian_;
   // Work space (sized on first use).
   mutable Eigen::MatrixXd M_;
   mutable Vec pi_, gradient_, force_;
