@@ -92,7 +92,7 @@ void FloatingFrameBody::set_support(FrameSupport support, const Vec3& axis) {
 }
 
 void FloatingFrameBody::check_support(const FloatingFrameState& s) const {
-  if (support_ == FrameSupport::Free) return;
+  if (prescribed_ != nullptr || support_ == FrameSupport::Free) return;
   const Vec3 v = s.velocity.segment<3>(0), omega = s.velocity.segment<3>(3);
   const double scale = 1e-12 * (1.0 + omega.norm());
   if (v.norm() > scale)
@@ -103,6 +103,11 @@ void FloatingFrameBody::check_support(const FloatingFrameState& s) const {
 
 void FloatingFrameBody::constrain(const FloatingFrameState& s, Vec& w) const {
   (void)s;
+  if (prescribed_ != nullptr) {
+    w.segment<3>(0) = prescribed_->velocity;
+    w.segment<3>(3) = prescribed_->angular_velocity;
+    return;
+  }
   if (support_ == FrameSupport::Free) return;
   w.segment<3>(0).setZero();
   if (support_ == FrameSupport::Revolute) w.segment<3>(3) = w.segment<3>(3).dot(axis_) * axis_;
@@ -114,6 +119,13 @@ void FloatingFrameBody::support_maps(const FloatingFrameState& s) {
   // the one about the world origin minus p x the linear one; a revolute support also leaves
   // the moment about its axis (a_w = R a, fixed in the world) alone.
   const Index r = inertia_.num_modes(), size = 6 + r;
+  if (prescribed_ != nullptr) {  // the modes alone
+    free_velocities_.setZero(size, r);
+    projection_.setZero(r, size);
+    free_velocities_.bottomRows(r).setIdentity();
+    projection_.rightCols(r).setIdentity();
+    return;
+  }
   const bool revolute = support_ == FrameSupport::Revolute;
   const Index d = (revolute ? 1 : 3) + r;
   free_velocities_.setZero(size, d);
@@ -133,6 +145,23 @@ void FloatingFrameBody::support_maps(const FloatingFrameState& s) {
   projection_.bottomRightCorner(r, r).setIdentity();
 }
 
+FloatingFrameStepStats FloatingFrameBody::step_prescribed(FloatingFrameState& state, double h, const FramePose& end) {
+  if (!end.position.allFinite() || !end.rotation.allFinite() || !end.velocity.allFinite() ||
+      !end.angular_velocity.allFinite())
+    throw InvalidInput("floating frame: the prescribed pose or velocity is not finite");
+  if ((end.rotation.transpose() * end.rotation - Mat3::Identity()).norm() > 1e-9 || end.rotation.determinant() < 0)
+    throw InvalidInput("floating frame: the prescribed rotation is not a rotation matrix");
+  prescribed_ = &end;
+  try {
+    const FloatingFrameStepStats stats = step(state, h);
+    prescribed_ = nullptr;
+    return stats;
+  } catch (...) {
+    prescribed_ = nullptr;
+    throw;
+  }
+}
+
 FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double h) {
   if (!(h > 0.0) || !std::isfinite(h)) throw InvalidInput("floating frame: the time step must be positive and finite");
   check(state);
@@ -150,15 +179,20 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
     // The end of the step from the trial velocities.
     const Vec& w0 = state.velocity;
     const Vec& w1 = trial_.velocity;
-    trial_.rotation = state.rotation * cayley(0.5 * h * (w0.segment<3>(3) + w1.segment<3>(3)));
-    trial_.position =
-        state.position + 0.5 * h * (state.rotation * w0.segment<3>(0) + trial_.rotation * w1.segment<3>(0));
+    if (prescribed_ != nullptr) {
+      trial_.rotation = prescribed_->rotation;
+      trial_.position = prescribed_->position;
+    } else {
+      trial_.rotation = state.rotation * cayley(0.5 * h * (w0.segment<3>(3) + w1.segment<3>(3)));
+      trial_.position =
+          state.position + 0.5 * h * (state.rotation * w0.segment<3>(0) + trial_.rotation * w1.segment<3>(0));
+    }
     trial_.zeta = state.zeta + 0.5 * h * (w0.tail(r) + w1.tail(r));
     balance_at(trial_, end_);
     residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
     residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
     residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
-    if (support_ != FrameSupport::Free) {
+    if (reduced()) {
       support_maps(state);
       stats.residual = (projection_ * residual_).norm() / scale;
     } else {
@@ -187,7 +221,7 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
     jacobian_.block<3, 3>(3, 0) -= 0.5 * h * cross_matrix(end_.linear) * R1;
     jacobian_.bottomRows(r) = M_.bottomRows(r);
     jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
-    if (support_ == FrameSupport::Free) {
+    if (!reduced()) {
       lu_.compute(jacobian_);
       correction_ = lu_.solve(residual_);
     } else {  // the balances the support's reactions do not enter, in the velocities it leaves free

@@ -33,6 +33,13 @@ struct FloatingFrameState {
 // and the balances the joint's reactions enter are left out of the step.
 enum class FrameSupport { Free, Spherical, Revolute };
 
+// A pose of the frame with its velocities (v and omega in the frame), for prescribed motion.
+struct FramePose {
+  Vec3 position = Vec3::Zero();
+  Mat3 rotation = Mat3::Identity();
+  Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
+};
+
 struct FloatingFrameStepStats {
   int iterations = 0;
   double residual = 0.0;  // relative, of the last iteration
@@ -53,6 +60,11 @@ class FloatingFrameBody {
   // iterations do not converge (the state is then left as it was).
   FloatingFrameStepStats step(FloatingFrameState& state, double h);
 
+  // One step with the frame's motion prescribed: `end` is its pose and velocities at the end
+  // of the step (the state holds those at its start); only the modes are solved for. A hub
+  // driven at a given angular velocity, as in the spin-up beam.
+  FloatingFrameStepStats step_prescribed(FloatingFrameState& state, double h, const FramePose& end);
+
   // Kinetic + elastic + gravitational energy; world momenta (angular about the origin).
   double energy(const FloatingFrameState& s) const;
   Vec3 linear_momentum(const FloatingFrameState& s) const;
@@ -72,12 +84,14 @@ class FloatingFrameBody {
   void check_support(const FloatingFrameState& s) const;
   void constrain(const FloatingFrameState& s, Vec& w) const;
   void support_maps(const FloatingFrameState& s);
+  bool reduced() const { return prescribed_ != nullptr || support_ != FrameSupport::Free; }
 
   FloatingFrameInertia inertia_;
   Eigen::MatrixXd stiffness_, damping_;
   Vec3 gravity_ = Vec3::Zero();
   FrameSupport support_ = FrameSupport::Free;
   Vec3 axis_ = Vec3::UnitZ();
+  const FramePose* prescribed_ = nullptr;  // during step_prescribed
   Eigen::MatrixXd free_velocities_, projection_, reduced_jacobian_;
   // Work space (sized on first use).
   mutable Eigen::MatrixXd M_;
