@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "corotate/solvers/saved_rotations.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
@@ -37,17 +38,8 @@ class AggregateRotations {
   // ones. A one-node aggregate or a non-finite covariance keeps its previous rotation.
   void update(const Nodes& x);
   // Copies of the rotations and their warm starts, and back (a failed Simulation::step).
-  void save_state() {
-    saved_rotations_ = rotations_;
-    saved_guess_ = rotation_guess_;
-    saved_rotated_ = rotated_;
-  }
-  void restore_state() {
-    if (saved_rotations_.size() != rotations_.size()) return;  // built since: nothing saved for it
-    rotations_ = saved_rotations_;
-    rotation_guess_ = saved_guess_;
-    rotated_ = saved_rotated_;
-  }
+  void save_state() { saved_.save(rotations_, rotation_guess_, rotated_); }
+  void restore_state() { saved_.restore(rotations_, rotation_guess_, rotated_); }
 
  private:
   std::vector<int> aggregate_;                      // aggregate of each node
@@ -56,9 +48,7 @@ class AggregateRotations {
   std::vector<Mat3> covariance_;                    // work space of update()
   std::vector<Eigen::Quaterniond> rotation_guess_;  // warm starts of the rotation extraction
   bool rotated_ = false;
-  std::vector<Mat3> saved_rotations_;
-  std::vector<Eigen::Quaterniond> saved_guess_;
-  bool saved_rotated_ = false;
+  SavedRotations saved_;
 };
 
 // Greedy aggregation of the node graph: a node whose neighbours are all free starts an

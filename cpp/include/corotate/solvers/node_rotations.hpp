@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "corotate/solvers/saved_rotations.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
@@ -33,17 +34,8 @@ class NodeRotations {
   // One per node.
   const std::vector<Mat3>& rotations() const { return rotations_; }
   // Copies of the rotations and their warm starts, and back (a failed Simulation::step).
-  void save_state() {
-    saved_rotations_ = rotations_;
-    saved_guess_ = guess_;
-    saved_rotated_ = rotated_;
-  }
-  void restore_state() {
-    if (saved_rotations_.size() != rotations_.size()) return;  // built since: nothing saved for it
-    rotations_ = saved_rotations_;
-    guess_ = saved_guess_;
-    rotated_ = saved_rotated_;
-  }
+  void save_state() { saved_.save(rotations_, guess_, rotated_); }
+  void restore_state() { saved_.restore(rotations_, guess_, rotated_); }
 
  private:
   std::vector<int> start_, stencil_;  // node i's stencil: stencil_[start_[i] .. start_[i + 1])
@@ -52,9 +44,7 @@ class NodeRotations {
   std::vector<Mat3> rotations_;
   std::vector<Eigen::Quaterniond> guess_;  // warm starts of the rotation extraction
   bool rotated_ = false;
-  std::vector<Mat3> saved_rotations_;
-  std::vector<Eigen::Quaterniond> saved_guess_;
-  bool saved_rotated_ = false;
+  SavedRotations saved_;
 };
 
 }  // namespace corotate
