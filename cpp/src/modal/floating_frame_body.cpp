@@ -194,7 +194,8 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
     residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
     if (reduced()) {
       support_maps(state);
-      stats.residual = (projection_ * residual_).norm() / scale;
+      reduced_residual_.noalias() = projection_ * residual_;
+      stats.residual = reduced_residual_.norm() / scale;
     } else {
       stats.residual = residual_.norm() / scale;
     }
@@ -226,9 +227,12 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
       correction_ = lu_.solve(residual_);
     } else {  // the balances the support's reactions do not enter, in the velocities it leaves free
       support_maps(state);
-      reduced_jacobian_.noalias() = projection_ * jacobian_ * free_velocities_;
+      projected_jacobian_.noalias() = projection_ * jacobian_;  // (in steps: no temporaries)
+      reduced_jacobian_.noalias() = projected_jacobian_ * free_velocities_;
       lu_.compute(reduced_jacobian_);
-      correction_.noalias() = free_velocities_ * lu_.solve(projection_ * residual_);
+      reduced_residual_.noalias() = projection_ * residual_;
+      reduced_correction_ = lu_.solve(reduced_residual_);
+      correction_.noalias() = free_velocities_ * reduced_correction_;
     }
     trial_.velocity -= correction_;
   }

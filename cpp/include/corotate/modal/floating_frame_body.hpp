@@ -92,7 +92,8 @@ class FloatingFrameBody {
   FrameSupport support_ = FrameSupport::Free;
   Vec3 axis_ = Vec3::UnitZ();
   const FramePose* prescribed_ = nullptr;  // during step_prescribed
-  Eigen::MatrixXd free_velocities_, projection_, reduced_jacobian_;
+  Eigen::MatrixXd free_velocities_, projection_, projected_jacobian_, reduced_jacobian_;
+  Vec reduced_residual_, reduced_correction_;
   // Work space (sized on first use).
   mutable Eigen::MatrixXd M_;
   mutable Vec pi_, gradient_, force_;
