@@ -115,9 +115,9 @@ PYBIND11_MODULE(_core, m) {
         d["instruction_set"] = info.instruction_set;
         return d;
       },
-      "What this build has: cholmod (SuiteSparse direct solves, else the library's own supernodal Cholesky), openmp "
-      "(threads), cpu_clones "
-      "(hot loops compiled for several instruction sets) and instruction_set (the one they run at on this CPU).");
+      "What this build has: cholmod (SuiteSparse direct solves, else the library's own supernodal Cholesky), "
+      "openmp (threads), cpu_clones (hot loops compiled for several instruction sets) and instruction_set (the "
+      "one they run at on this CPU).");
   m.def("on_unstable_names", &on_unstable_names);
 
   py::class_<Material>(m, "Material")

@@ -452,6 +452,32 @@ TEST(reference_factor_refactorizes_after_a_solve_that_ends_at_its_cap) {
   CHECK_THROWS(pc.compute(indefinite), NotPositiveDefinite);
 }
 
+TEST(reference_factor_restores_a_factor_refreshed_in_a_failed_call) {
+  // save_state, a capped solve, a refresh at another matrix, restore_state: the factor
+  // applied afterwards is the first one again (the same z, to the bit), and the next
+  // compute does not refactorize (the refresh flag restored too).
+  const Problem p;
+  BlockSparseMatrix other = p.system.A;
+  other.assign_scaled(2.0, p.system.A);
+  ReferenceFactorPreconditioner pc, twin;
+  pc.compute(p.system.A);
+  twin.compute(p.system.A);
+  pc.save_state();
+  pc.solved(false);
+  pc.compute(other);
+  CHECK(pc.factorizations() == 2);
+  pc.restore_state();
+  CHECK(pc.factorizations() == 1);
+  const Vec r = fixtures::random_matrix<Vec>(p.system.A.num_dofs(), 1);
+  Vec z(r.size()), z_twin(r.size());  // (apply writes into a sized vector)
+  pc.compute(p.system.A);
+  twin.compute(p.system.A);
+  CHECK(pc.factorizations() == 1);
+  pc.apply(r, z);
+  twin.apply(r, z_twin);
+  CHECK(z == z_twin);
+}
+
 TEST(a_warm_start_that_only_just_meets_the_tolerance_still_iterates) {
   // Taking last step's answer as it is re-applies its error (the warm start's lagged force);
   // a warm start is accepted without iterating only when it beats the tolerance 100-fold.

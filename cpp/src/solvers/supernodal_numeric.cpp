@@ -21,13 +21,8 @@ bool SupernodalCholesky::factorize(const Matrix& A) {
     // U (the rest), which starts on the stack above the children's updates.
     double* panel = values_.data() + px_[s];
     std::fill(panel, panel + static_cast<size_t>(m) * k, 0.0);
-    double* const children = stack_.data() + stack_start_[s];
-    size_t children_size = 0;
-    for (int c = first_child_[s]; c >= 0; c = next_sibling_[c]) {
-      const size_t bc = static_cast<size_t>(pi_[c + 1] - pi_[c]) - (super_[c + 1] - super_[c]);
-      children_size += bc * bc;
-    }
-    double* const U = children + children_size;
+    double* const children = stack_.data() + children_start_[s];
+    double* const U = stack_.data() + update_start_[s];
     std::fill(U, U + static_cast<size_t>(below) * below, 0.0);
     // A's entries on and below the diagonal of the front's columns.
     for (int j = f; j < f + k; ++j) {

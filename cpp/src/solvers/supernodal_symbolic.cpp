@@ -195,17 +195,14 @@ void SupernodalCholesky::analyze(const Matrix& A) {
   super_.push_back(n);
   for (int s = 0; s < nsuper; ++s)
     for (int j = super_[s]; j < super_[s + 1]; ++j) super_of[j] = s;
-  parent_super_.assign(nsuper, -1);
-  for (int s = 0; s < nsuper; ++s) {
-    const int up = parent[super_[s + 1] - 1];
-    if (up >= 0) parent_super_[s] = super_of[up];
-  }
   first_child_.assign(nsuper, -1);
   next_sibling_.assign(nsuper, -1);
-  for (int s = nsuper - 1; s >= 0; --s)  // children lists, ascending (their order on the stack)
-    if (parent_super_[s] >= 0) next_sibling_[s] = first_child_[parent_super_[s]], first_child_[parent_super_[s]] = s;
-  const auto& first_child = first_child_;
-  const auto& next_sibling = next_sibling_;
+  for (int s = nsuper - 1; s >= 0; --s) {  // children lists, ascending (their order on the stack)
+    const int up = parent[super_[s + 1] - 1];
+    if (up < 0) continue;
+    next_sibling_[s] = first_child_[super_of[up]];
+    first_child_[super_of[up]] = s;
+  }
   pi_.assign(1, 0);
   rows_.clear();
   std::fill(mark.begin(), mark.end(), -1);
@@ -218,7 +215,7 @@ void SupernodalCholesky::analyze(const Matrix& A) {
     };
     for (int j = f; j < l; ++j)
       for (int p = outer[perm_[j]]; p < outer[perm_[j] + 1]; ++p) add(inverse_perm_[inner[p]]);
-    for (int c = first_child[s]; c >= 0; c = next_sibling[c])
+    for (int c = first_child_[s]; c >= 0; c = next_sibling_[c])
       for (int p = pi_[c] + (super_[c + 1] - super_[c]); p < pi_[c + 1]; ++p) add(rows_[p]);
     std::sort(rows_.begin() + static_cast<std::ptrdiff_t>(begin) + (l - f), rows_.end());
     pi_.push_back(static_cast<int>(rows_.size()));
@@ -226,32 +223,30 @@ void SupernodalCholesky::analyze(const Matrix& A) {
       throw SolverFailure("supernodal Cholesky: inconsistent symbolic factor (a bug)");
   }
 
-  // 5. Value offsets, the update-matrix stack (children's updates on top when their parent
-  // is assembled, the parent's own pushed after they are popped), the flop count.
+  // 5. Value offsets and the update-matrix stack: the children's updates are on top when
+  // their parent is assembled, its own goes right above them and moves down once they are
+  // added in.
   px_.assign(1, 0);
-  stack_start_.assign(nsuper + 1, 0);
-  size_t height_now = 0;
-  stack_size_ = largest_update_ = 0;
-  flops_ = 0.0;
+  children_start_.assign(nsuper, 0);
+  update_start_.assign(nsuper, 0);
+  size_t height_now = 0, stack_size = 0;
   for (int s = 0; s < nsuper; ++s) {
     const size_t k = super_[s + 1] - super_[s], m = pi_[s + 1] - pi_[s], below = m - k;
     if (static_cast<size_t>(px_.back()) + m * k > static_cast<size_t>(std::numeric_limits<int>::max()))
       throw InvalidInput("supernodal Cholesky: the factor has more than 2^31 entries");
     px_.push_back(static_cast<int>(px_.back() + m * k));
     size_t children_size = 0;
-    for (int c = first_child[s]; c >= 0; c = next_sibling[c]) {
+    for (int c = first_child_[s]; c >= 0; c = next_sibling_[c]) {
       const size_t b = static_cast<size_t>(pi_[c + 1] - pi_[c]) - (super_[c + 1] - super_[c]);
       children_size += b * b;
     }
-    stack_start_[s] = height_now - children_size;  // children are the top of the stack
-    stack_size_ = std::max(stack_size_, height_now + below * below);
-    height_now = stack_start_[s] + below * below;
-    largest_update_ = std::max(largest_update_, below * below);
-    const double kk = static_cast<double>(k), bb = static_cast<double>(below);
-    flops_ += kk * kk * kk / 3 + bb * kk * kk + bb * bb * kk;
+    children_start_[s] = height_now - children_size;
+    update_start_[s] = height_now;
+    stack_size = std::max(stack_size, height_now + below * below);
+    height_now = children_start_[s] + below * below;
   }
   values_.assign(px_.back(), 0.0);
-  stack_.assign(stack_size_, 0.0);
+  stack_.assign(stack_size, 0.0);
   relative_.assign(n, 0);
   map_.assign(n, 0);
 

@@ -32,20 +32,15 @@ class SupernodalCholesky {
   // The factor's arrays (valid after a successful factorize) and values.
   const SupernodalFactor& factor() const { return view_; }
   const double* values() const { return values_.data(); }
+  // Entries of L, with the explicit zeros of relaxed supernodes.
   size_t num_values() const { return values_.size(); }
-  // Of the analysis: entries of L (with the explicit zeros of relaxed supernodes) and the
-  // floating-point operations of one factorization.
-  size_t factor_entries() const { return values_.size(); }
-  double flops() const { return flops_; }
 
  private:
   // The symbolic factor.
-  std::vector<int> perm_, inverse_perm_, super_, pi_, px_, rows_, parent_super_, first_child_, next_sibling_;
-  // Per supernode: where its children's update matrices start on the stack (in doubles)
-  // and where its own goes; the largest stack and update matrix.
-  std::vector<size_t> stack_start_;
-  size_t stack_size_ = 0, largest_update_ = 0;
-  double flops_ = 0.0;
+  std::vector<int> perm_, inverse_perm_, super_, pi_, px_, rows_, first_child_, next_sibling_;
+  // Per supernode: where its children's update matrices start on the stack (in doubles) and
+  // where its own is computed (right above them).
+  std::vector<size_t> children_start_, update_start_;
   SupernodalFactor view_;
   // Numeric work, sized by analyze.
   std::vector<double> values_, stack_;
