@@ -26,6 +26,7 @@ void bind_hyperelastic(py::module_& m);  // hyperelastic_bindings.cpp
 void bind_simulation(py::module_& m);  // simulation_bindings.cpp
 void bind_feedback(py::module_& m);    // feedback_bindings.cpp
 void bind_modal(py::module_& m);       // modal_bindings.cpp
+void bind_floating_frame(py::module_& m);  // floating_frame_bindings.cpp
 void bind_embedding(py::module_& m);  // embedding_bindings.cpp
 void bind_cell_types(py::module_& m);  // cell_type_bindings.cpp
 void bind_meshes(py::module_& m);  // meshes_bindings.cpp
@@ -246,6 +247,7 @@ PYBIND11_MODULE(_core, m) {
   bind_simulation(m);  // simulation_bindings.cpp
   bind_feedback(m);  // feedback_bindings.cpp
   bind_modal(m);  // modal_bindings.cpp
+  bind_floating_frame(m);  // floating_frame_bindings.cpp
   bind_embedding(m);  // embedding_bindings.cpp
   bind_cell_types(m);  // cell_type_bindings.cpp
   bind_meshes(m);  // meshes_bindings.cpp

@@ -47,6 +47,24 @@ void FloatingFrameBody::check(const FloatingFrameState& s) const {
     throw InvalidInput("floating frame: the frame's rotation is not a rotation matrix");
 }
 
+void FloatingFrameBody::frame_loads(const FloatingFrameState& s, Vec3& force, Vec3& torque,
+                                    Eigen::Ref<Vec> modal) const {
+  const Index r = inertia_.num_modes();
+  const Vec3 g = s.rotation.transpose() * gravity_;
+  force = inertia_.mass() * g;
+  torque = inertia_.first_moment(s.zeta).cross(g);
+  for (Index k = 0; k < r; ++k) modal[k] += g.dot(inertia_.modal_first_moment(k));
+  for (Index i = 0; i < load_points_.cols(); ++i) {
+    const auto rows = load_rows_.middleRows(3 * i, 3);
+    const Vec3 f =
+        load_frame_ == LoadFrame::Body ? Vec3(load_forces_.col(i)) : Vec3(s.rotation.transpose() * load_forces_.col(i));
+    const Vec3 u = load_points_.col(i) + rows * s.zeta;
+    force += f;
+    torque += u.cross(f);
+    modal.noalias() += rows.transpose() * f;
+  }
+}
+
 void FloatingFrameBody::balance_at(const FloatingFrameState& s, Balance& b) const {
   const Index r = inertia_.num_modes();
   inertia_.mass_matrix(s.zeta, M_);
@@ -54,16 +72,26 @@ void FloatingFrameBody::balance_at(const FloatingFrameState& s, Balance& b) cons
   b.linear = s.rotation * pi_.segment<3>(0);
   b.angular = s.position.cross(b.linear) + s.rotation * pi_.segment<3>(3);
   b.modal_momentum = pi_.tail(r);
-  // Loads: gravity on every node, the elastic and damping forces, and dT/dzeta.
-  const double m = inertia_.mass();
-  b.force = m * gravity_;
-  b.torque = s.position.cross(b.force) + (s.rotation * inertia_.first_moment(s.zeta)).cross(gravity_);
-  inertia_.kinetic_energy_gradient(s.zeta, s.velocity, gradient_);
-  const Vec3 g_frame = s.rotation.transpose() * gravity_;
-  b.modal_load = gradient_;
-  for (Index k = 0; k < r; ++k) b.modal_load[k] += g_frame.dot(inertia_.modal_first_moment(k));
+  // Loads: gravity and the nodal loads, the elastic and damping forces, and dT/dzeta.
+  inertia_.kinetic_energy_gradient(s.zeta, s.velocity, b.modal_load);
+  Vec3 force, torque;
+  frame_loads(s, force, torque, b.modal_load);
+  b.force = s.rotation * force;
+  b.torque = s.position.cross(b.force) + s.rotation * torque;
   b.modal_load.noalias() -= stiffness_ * s.zeta;
   b.modal_load.noalias() -= damping_ * s.velocity.tail(r);
+}
+
+std::array<double, kInertialLoadCases> FloatingFrameBody::stiffening_force(const FloatingFrameState& s,
+                                                                           const Vec3& alpha, const Vec3& acceleration,
+                                                                           Vec& out) {
+  const Index r = inertia_.num_modes();
+  const auto c =
+      inertial_load_coefficients(s.velocity.segment<3>(3), alpha, acceleration - s.rotation.transpose() * gravity_);
+  // K_geo zeta = [K_0 ... K_11] (c kron zeta): one product.
+  for (int k = 0; k < kInertialLoadCases; ++k) stiffening_weights_.segment(k * r, r) = c[k] * s.zeta;
+  out.noalias() = stiffening_cases_ * stiffening_weights_;
+  return c;
 }
 
 void FloatingFrameBody::predict(const FloatingFrameState& s, double h, Vec& w) {
@@ -71,15 +99,47 @@ void FloatingFrameBody::predict(const FloatingFrameState& s, double h, Vec& w) {
   // iterations' start: one or two iterations fewer than starting from w_n.
   const Index r = inertia_.num_modes();
   inertia_.quadratic_velocity_forces(s.zeta, s.velocity, force_);
-  const Vec3 g = s.rotation.transpose() * gravity_;
-  force_.segment<3>(0) += inertia_.mass() * g;
-  force_.segment<3>(3) += inertia_.first_moment(s.zeta).cross(g);
-  for (Index k = 0; k < r; ++k) force_[6 + k] += g.dot(inertia_.modal_first_moment(k));
+  Vec3 force, torque;
+  frame_loads(s, force, torque, force_.tail(r));  // (tail: a block of force_, added to in place)
+  force_.segment<3>(0) += force;
+  force_.segment<3>(3) += torque;
   force_.tail(r).noalias() -= stiffness_ * s.zeta;
   force_.tail(r).noalias() -= damping_ * s.velocity.tail(r);
   inertia_.mass_matrix(s.zeta, M_);
   lu_.compute(M_);
   w = s.velocity + h * lu_.solve(force_);
+}
+
+void FloatingFrameBody::set_node_loads(Nodes points, Eigen::MatrixXd rows, Nodes forces, LoadFrame frame) {
+  const Index m = points.cols(), r = inertia_.num_modes();
+  if (forces.cols() != m || rows.rows() != 3 * m || rows.cols() != r)
+    throw InvalidInput("floating frame: node loads need as many forces as points and 3 basis rows of " +
+                       std::to_string(r) + " modes per point");
+  if (!points.allFinite() || !rows.allFinite() || !forces.allFinite())
+    throw InvalidInput("floating frame: the node loads must be finite");
+  load_points_ = std::move(points);
+  load_rows_ = std::move(rows);
+  load_forces_ = std::move(forces);
+  load_frame_ = frame;
+}
+
+void FloatingFrameBody::set_geometric_stiffness(const std::vector<Eigen::MatrixXd>& per_case) {
+  const Index r = inertia_.num_modes();
+  if (per_case.empty()) {
+    stiffening_cases_.resize(0, 0);
+    return;
+  }
+  if (per_case.size() != std::size_t(kInertialLoadCases))
+    throw InvalidInput("floating frame: the geometric stiffening needs one matrix per inertial load case (12)");
+  Eigen::MatrixXd cases(r, kInertialLoadCases * r);
+  for (int k = 0; k < kInertialLoadCases; ++k) {
+    if (per_case[k].rows() != r || per_case[k].cols() != r || !per_case[k].allFinite())
+      throw InvalidInput("floating frame: load case " + std::to_string(k) + "'s geometric stiffness must be a finite " +
+                         std::to_string(r) + " x " + std::to_string(r) + " matrix");
+    cases.middleCols(k * r, r) = 0.5 * (per_case[k] + per_case[k].transpose());
+  }
+  stiffening_cases_ = std::move(cases);
+  stiffening_weights_.resize(kInertialLoadCases * r);
 }
 
 void FloatingFrameBody::set_support(FrameSupport support, const Vec3& axis) {
@@ -162,6 +222,19 @@ FloatingFrameStepStats FloatingFrameBody::step_prescribed(FloatingFrameState& st
   }
 }
 
+FloatingFrameStepStats FloatingFrameBody::advance(FloatingFrameState& state, double h, int n) {
+  if (n < 0) throw InvalidInput("floating frame: the number of steps must be >= 0");
+  const FloatingFrameState before = state;
+  FloatingFrameStepStats stats;
+  try {
+    for (int k = 0; k < n; ++k) stats = step(state, h);
+  } catch (...) {
+    state = before;
+    throw;
+  }
+  return stats;
+}
+
 FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double h) {
   if (!(h > 0.0) || !std::isfinite(h)) throw InvalidInput("floating frame: the time step must be positive and finite");
   check(state);
@@ -171,10 +244,16 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
   trial_ = state;
   predict(state, h, trial_.velocity);
   constrain(state, trial_.velocity);
-  const double scale = start_.linear.norm() + start_.angular.norm() + start_.modal_momentum.norm() +
-                       h * (start_.force.norm() + start_.torque.norm() + start_.modal_load.norm()) + 1e-300;
+  // The residual is relative to the momenta and impulses of the step: those at its start, and
+  // (iteration by iteration) those at its end, which alone are nonzero for a body at rest
+  // that a prescribed motion starts to drive.
+  const double start_scale = start_.linear.norm() + start_.angular.norm() + start_.modal_momentum.norm() +
+                             h * (start_.force.norm() + start_.torque.norm() + start_.modal_load.norm());
   residual_.resize(size);
+  if (reduced()) support_maps(state);
   FloatingFrameStepStats stats;
+  double last_residual = 0.0;
+  bool refresh = true;
   for (stats.iterations = 1; stats.iterations <= kMaxIterations; ++stats.iterations) {
     // The end of the step from the trial velocities.
     const Vec& w0 = state.velocity;
@@ -192,8 +271,17 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
     residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
     residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
     residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
+    if (stiffening()) {  // - K_geo zeta in both ends' modal loads, with the step's accelerations
+      const Vec3 alpha = (w1.segment<3>(3) - w0.segment<3>(3)) / h;
+      const Vec3 acceleration = (w1.segment<3>(0) - w0.segment<3>(0)) / h +
+                                0.25 * (w0.segment<3>(3) + w1.segment<3>(3)).cross(w0.segment<3>(0) + w1.segment<3>(0));
+      stiffening_force(state, alpha, acceleration, stiffening_start_);
+      end_coefficients_ = stiffening_force(trial_, alpha, acceleration, stiffening_end_);
+      residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
+    }
+    const double scale = start_scale + end_.linear.norm() + end_.angular.norm() + end_.modal_momentum.norm() +
+                         h * (end_.force.norm() + end_.torque.norm() + end_.modal_load.norm()) + 1e-300;
     if (reduced()) {
-      support_maps(state);
       reduced_residual_.noalias() = projection_ * residual_;
       stats.residual = reduced_residual_.norm() / scale;
     } else {
@@ -204,33 +292,15 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
       state = trial_;
       return stats;
     }
-    // The leading part of the Jacobian: the momenta's dependence through M at the end (turned
-    // to the world frame), and the modal stiffness and damping through zeta and eta.
-    jacobian_.resize(size, size);
-    const Mat3& R1 = trial_.rotation;
-    jacobian_.topRows(3).noalias() = R1 * M_.topRows(3);
-    jacobian_.middleRows(3, 3).noalias() = R1 * M_.middleRows(3, 3);
-    jacobian_.middleRows(3, 3).noalias() += cross_matrix(trial_.position) * jacobian_.topRows(3);
-    // The rotation's dependence on omega_{n+1} (dR = R [dtheta]x, dtheta ~ h/2 domega) and
-    // the position's on v_{n+1} (dp = h/2 R dv): small for small h |omega| in relative terms,
-    // but not next to the first moment's coupling when the frame's origin is near the centre
-    // of mass (where M_v,omega is small).
-    const Mat3 turn_linear = -0.5 * h * R1 * cross_matrix(pi_.segment<3>(0));
-    jacobian_.block<3, 3>(0, 3) += turn_linear;
-    jacobian_.block<3, 3>(3, 3) +=
-        cross_matrix(trial_.position) * turn_linear - 0.5 * h * R1 * cross_matrix(pi_.segment<3>(3));
-    jacobian_.block<3, 3>(3, 0) -= 0.5 * h * cross_matrix(end_.linear) * R1;
-    jacobian_.bottomRows(r) = M_.bottomRows(r);
-    jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
+    // A chord method: the Jacobian of the first iteration is kept while each iteration cuts
+    // the residual by 4 or more, refreshed when convergence slows down.
+    if (stats.iterations > 1 && stats.residual > 0.25 * last_residual) refresh = true;
+    last_residual = stats.residual;
+    if (refresh) factor_jacobian(h);
+    refresh = false;
     if (!reduced()) {
-      lu_.compute(jacobian_);
       correction_ = lu_.solve(residual_);
     } else {  // the balances the support's reactions do not enter, in the velocities it leaves free
-      support_maps(state);
-      projected_jacobian_.noalias() = projection_ * jacobian_;  // (in steps: no temporaries)
-      reduced_jacobian_.noalias() = projected_jacobian_ * free_velocities_;
-      lu_.compute(reduced_jacobian_);
-      reduced_residual_.noalias() = projection_ * residual_;
       reduced_correction_ = lu_.solve(reduced_residual_);
       correction_.noalias() = free_velocities_ * reduced_correction_;
     }
@@ -238,6 +308,37 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
   }
   throw SolverFailure("floating frame: the implicit step did not converge (relative residual " +
                       std::to_string(stats.residual) + "); the state was kept. A smaller time step helps.");
+}
+
+void FloatingFrameBody::factor_jacobian(double h) {
+  // The leading part of the Jacobian: the momenta's dependence through M at the end (turned
+  // to the world frame), and the modal stiffness and damping through zeta and eta.
+  const Index r = inertia_.num_modes(), size = 6 + r;
+  jacobian_.resize(size, size);
+  const Mat3& R1 = trial_.rotation;
+  jacobian_.topRows(3).noalias() = R1 * M_.topRows(3);
+  jacobian_.middleRows(3, 3).noalias() = R1 * M_.middleRows(3, 3);
+  jacobian_.middleRows(3, 3).noalias() += cross_matrix(trial_.position) * jacobian_.topRows(3);
+  // The rotation's dependence on omega_{n+1} (dR = R [dtheta]x, dtheta ~ h/2 domega) and
+  // the position's on v_{n+1} (dp = h/2 R dv): small for small h |omega| in relative terms,
+  // but not next to the first moment's coupling when the frame's origin is near the centre
+  // of mass (where M_v,omega is small).
+  const Mat3 turn_linear = -0.5 * h * R1 * cross_matrix(pi_.segment<3>(0));
+  jacobian_.block<3, 3>(0, 3) += turn_linear;
+  jacobian_.block<3, 3>(3, 3) +=
+      cross_matrix(trial_.position) * turn_linear - 0.5 * h * R1 * cross_matrix(pi_.segment<3>(3));
+  jacobian_.block<3, 3>(3, 0) -= 0.5 * h * cross_matrix(end_.linear) * R1;
+  jacobian_.bottomRows(r) = M_.bottomRows(r);
+  jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
+  for (int k = 0; k < kInertialLoadCases && stiffening(); ++k)
+    jacobian_.bottomRightCorner(r, r) += (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);
+  if (!reduced()) {
+    lu_.compute(jacobian_);
+  } else {
+    projected_jacobian_.noalias() = projection_ * jacobian_;  // (in steps: no temporaries)
+    reduced_jacobian_.noalias() = projected_jacobian_ * free_velocities_;
+    lu_.compute(reduced_jacobian_);
+  }
 }
 
 double FloatingFrameBody::energy(const FloatingFrameState& s) const {

@@ -12,12 +12,22 @@
 // (round-off), whatever the step; the scheme is time-reversible, so its energy error stays
 // bounded instead of drifting. The unknowns w_{n+1} are found by Newton iterations with the
 // leading part of the Jacobian (the mass matrix turned to the world frame, and the modal
-// stiffness and damping), which converge at a rate of order h |omega|.
+// stiffness and damping), which converge at a rate of order h |omega|; the Jacobian is kept
+// while the iterations converge fast (a chord method) and refreshed when they slow down.
+//
+// Geometric stiffening (optional): the inertial loads of the frame's motion (centrifugal,
+// Euler, translation and gravity) stress the body, and that stress stiffens it, which linear
+// modes alone leave out (a spinning beam's modes then soften without bound past its first
+// frequency). The modal load is then G - K_geo zeta with K_geo = sum_c c_c K_c over the twelve
+// unit load cases of inertial_load_cases.hpp, c_c from each end's omega and gravity and the
+// step's mean accelerations (so the scheme stays symmetric).
 #pragma once
 
 #include <Eigen/LU>
+#include <vector>
 
 #include "corotate/modal/floating_frame_inertia.hpp"
+#include "corotate/modal/inertial_load_cases.hpp"
 
 namespace corotate {
 
@@ -40,6 +50,9 @@ struct FramePose {
   Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
 };
 
+// The direction of nodal forces: fixed in the world, or turning with the frame (a follower load).
+enum class LoadFrame { World, Body };
+
 struct FloatingFrameStepStats {
   int iterations = 0;
   double residual = 0.0;  // relative, of the last iteration
@@ -54,11 +67,21 @@ class FloatingFrameBody {
   // axis: for Revolute, in the frame (normalised here). The state stepped must then have a
   // zero origin velocity (and, revolute, its angular velocity along the axis).
   void set_support(FrameSupport support, const Vec3& axis = Vec3::UnitZ());
+  // Forces on nodes: points (3 x m) their rest positions in the frame, rows (3m x r) their rows
+  // of the basis, forces (3 x m) in `frame`. Replaces the loads set before (m = 0: none).
+  void set_node_loads(Nodes points, Eigen::MatrixXd rows, Nodes forces, LoadFrame frame);
+  // The modal geometric stiffness of each unit inertial load case (12 matrices r x r, in the
+  // order of inertial_load_cases.hpp); an empty list switches the stiffening off.
+  void set_geometric_stiffness(const std::vector<Eigen::MatrixXd>& per_case);
+  bool stiffening() const { return stiffening_cases_.size() > 0; }
   // A state at rest at the frame's identity pose with zeta = 0.
   FloatingFrameState rest_state() const;
   // One step of h; throws InvalidInput for a bad state or step, SolverFailure when the
   // iterations do not converge (the state is then left as it was).
   FloatingFrameStepStats step(FloatingFrameState& state, double h);
+  // n steps (free or held by the support); when one fails, the state is put back as it was
+  // before the call and the error rethrown. Returns the last step's stats.
+  FloatingFrameStepStats advance(FloatingFrameState& state, double h, int n);
 
   // One step with the frame's motion prescribed: `end` is its pose and velocities at the end
   // of the step (the state holds those at its start); only the modes are solved for. A hub
@@ -79,6 +102,13 @@ class FloatingFrameBody {
     Vec modal_momentum, modal_load;
   };
   void balance_at(const FloatingFrameState& s, Balance& b) const;
+  // Gravity and the nodal loads in the frame: force, moment about the origin, modal load.
+  void frame_loads(const FloatingFrameState& s, Vec3& force, Vec3& torque, Eigen::Ref<Vec> modal) const;
+  // The Jacobian's leading part at trial_ (M_, pi_, end_ from its balance), factored into lu_.
+  void factor_jacobian(double h);
+  // out = K_geo zeta at s for the step's accelerations; returns the load cases' coefficients.
+  std::array<double, kInertialLoadCases> stiffening_force(const FloatingFrameState& s, const Vec3& alpha,
+                                                          const Vec3& acceleration, Vec& out);
   void check(const FloatingFrameState& s) const;
   void predict(const FloatingFrameState& s, double h, Vec& w);
   void check_support(const FloatingFrameState& s) const;
@@ -92,11 +122,17 @@ class FloatingFrameBody {
   FrameSupport support_ = FrameSupport::Free;
   Vec3 axis_ = Vec3::UnitZ();
   const FramePose* prescribed_ = nullptr;  // during step_prescribed
+  Nodes load_points_, load_forces_;
+  Eigen::MatrixXd load_rows_;
+  LoadFrame load_frame_ = LoadFrame::World;
+  Eigen::MatrixXd stiffening_cases_;  // r x 12 r: [K_0 ... K_11]
+  std::array<double, kInertialLoadCases> end_coefficients_{};
+  Vec stiffening_weights_, stiffening_start_, stiffening_end_;
   Eigen::MatrixXd free_velocities_, projection_, projected_jacobian_, reduced_jacobian_;
   Vec reduced_residual_, reduced_correction_;
   // Work space (sized on first use).
   mutable Eigen::MatrixXd M_;
-  mutable Vec pi_, gradient_, force_;
+  mutable Vec pi_, force_;
   Eigen::MatrixXd jacobian_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Vec residual_, correction_;
