@@ -5,8 +5,9 @@ from __future__ import annotations
 import collections.abc
 import numpy
 import numpy.typing
+import scipy.sparse
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'FloatingFrame', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'inertial_load_coefficients', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -531,6 +532,65 @@ class PartialRotation:
     @property
     def representative_nodes(self) -> list[int]:
         ...
+class FloatingFrame:
+    def __init__(self, rest: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], node_mass: scipy.sparse.csc_matrix, basis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], damping: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> None:
+        ...
+    def mass_matrix(self, zeta: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    def set_geometric_stiffness(self, per_case: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]]) -> None:
+        ...
+    def set_gravity(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
+        ...
+    def set_node_loads(self, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], rows: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], forces: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], frame: str) -> None:
+        ...
+    def set_state(self, position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], rotation: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], zeta: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], velocity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    def set_support(self, kind: str, axis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
+        ...
+    def step(self, h: typing.SupportsFloat | typing.SupportsIndex, n: typing.SupportsInt | typing.SupportsIndex) -> tuple[int, float]:
+        """
+        n steps of h; on failure the state is as before the call. Returns (iterations, residual) of the last.
+        """
+    def step_prescribed(self, h: typing.SupportsFloat | typing.SupportsIndex, position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], rotation: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], velocity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], angular_velocity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple[int, float]:
+        """
+        One step of h to the frame pose given (velocities in the frame); only the modes are solved for.
+        """
+    @property
+    def angular_momentum(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def energy(self) -> float:
+        ...
+    @property
+    def linear_momentum(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def mass(self) -> float:
+        ...
+    @property
+    def n_modes(self) -> int:
+        ...
+    @property
+    def position(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def rotation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        ...
+    @property
+    def stiffening(self) -> bool:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+    @time.setter
+    def time(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def velocity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def zeta(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
 class SurfaceEmbedding:
     def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], max_outside_distance: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
         """
@@ -646,6 +706,10 @@ def feedback_method_names() -> list[str]:
 def have_openmp() -> bool:
     """
     Whether the core was built with OpenMP (else it runs on one thread).
+    """
+def inertial_load_coefficients(omega: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], alpha: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], acceleration_minus_gravity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> typing.Annotated[list[float], "FixedSize(12)"]:
+    """
+    The twelve coefficients of the unit inertial load cases (modal/inertial_load_cases.hpp).
     """
 def integrator_names() -> list[str]:
     """

@@ -168,6 +168,41 @@ TEST(floating_frame_velocity_forces_match_the_mass_matrix_derivatives) {
   CHECK((f - expected).norm() <= 1e-8 * expected.norm());
 }
 
+TEST(floating_frame_velocity_derivatives_match_finite_differences) {
+  // The step's Jacobian: d(M(zeta) w)/dzeta and d(dT/dzeta)/d(w, zeta), by central differences.
+  const Index r = 3;
+  const FlexibleBody b = flexible_body(r);
+  const FloatingFrameInertia inertia(b.X, b.node_mass, b.basis);
+  const Vec zeta = 0.1 * fixtures::random_matrix<Vec>(r, 1);
+  Vec w(6 + r);
+  w << 0.5, -1.0, 0.3, 2.0, -1.5, 3.0, fixtures::random_matrix<Vec>(r, 1);
+  Eigen::MatrixXd dmomentum, dgradient_dw, dgradient_dzeta;
+  inertia.velocity_derivatives(zeta, w, dmomentum, dgradient_dw, dgradient_dzeta);
+  const double eps = 1e-6;
+  Eigen::MatrixXd Mp, Mm, expected_momentum(6 + r, r), expected_dzeta(r, r), expected_dw(r, 6 + r);
+  Vec gp, gm;
+  for (Index k = 0; k < r; ++k) {
+    Vec step = Vec::Zero(r);
+    step[k] = eps;
+    inertia.mass_matrix(zeta + step, Mp);
+    inertia.mass_matrix(zeta - step, Mm);
+    expected_momentum.col(k) = (Mp - Mm) * w / (2 * eps);
+    inertia.kinetic_energy_gradient(zeta + step, w, gp);
+    inertia.kinetic_energy_gradient(zeta - step, w, gm);
+    expected_dzeta.col(k) = (gp - gm) / (2 * eps);
+  }
+  for (Index j = 0; j < 6 + r; ++j) {
+    Vec step = Vec::Zero(6 + r);
+    step[j] = eps;
+    inertia.kinetic_energy_gradient(zeta, w + step, gp);
+    inertia.kinetic_energy_gradient(zeta, w - step, gm);
+    expected_dw.col(j) = (gp - gm) / (2 * eps);
+  }
+  CHECK((dmomentum - expected_momentum).norm() <= 1e-7 * expected_momentum.norm());
+  CHECK((dgradient_dw - expected_dw).norm() <= 1e-7 * expected_dw.norm());
+  CHECK((dgradient_dzeta - expected_dzeta).norm() <= 1e-7 * expected_dzeta.norm());
+}
+
 namespace {
 
 FloatingFrameState spinning_state(const FloatingFrameBody& body) {

@@ -94,22 +94,6 @@ std::array<double, kInertialLoadCases> FloatingFrameBody::stiffening_force(const
   return c;
 }
 
-void FloatingFrameBody::predict(const FloatingFrameState& s, double h, Vec& w) {
-  // An explicit Euler step of the velocities, M w' = f_qv + loads (in the frame), as the
-  // iterations' start: one or two iterations fewer than starting from w_n.
-  const Index r = inertia_.num_modes();
-  inertia_.quadratic_velocity_forces(s.zeta, s.velocity, force_);
-  Vec3 force, torque;
-  frame_loads(s, force, torque, force_.tail(r));  // (tail: a block of force_, added to in place)
-  force_.segment<3>(0) += force;
-  force_.segment<3>(3) += torque;
-  force_.tail(r).noalias() -= stiffness_ * s.zeta;
-  force_.tail(r).noalias() -= damping_ * s.velocity.tail(r);
-  inertia_.mass_matrix(s.zeta, M_);
-  lu_.compute(M_);
-  w = s.velocity + h * lu_.solve(force_);
-}
-
 void FloatingFrameBody::set_node_loads(Nodes points, Eigen::MatrixXd rows, Nodes forces, LoadFrame frame) {
   const Index m = points.cols(), r = inertia_.num_modes();
   if (forces.cols() != m || rows.rows() != 3 * m || rows.cols() != r)
@@ -227,12 +211,50 @@ FloatingFrameStepStats FloatingFrameBody::advance(FloatingFrameState& state, dou
   const FloatingFrameState before = state;
   FloatingFrameStepStats stats;
   try {
-    for (int k = 0; k < n; ++k) stats = step(state, h);
+    for (int k = 0; k < n; ++k) {
+      const FloatingFrameStepStats one = step(state, h);
+      stats.iterations += one.iterations;
+      stats.residual = one.residual;
+    }
   } catch (...) {
     state = before;
     throw;
   }
   return stats;
+}
+
+double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double h, double start_scale) {
+  // The end of the step from the trial velocities, its balances, and the residual of the
+  // step's equations (projected on what a support leaves free), relative to their scale.
+  const Index r = inertia_.num_modes();
+  const Vec& w0 = state.velocity;
+  const Vec& w1 = trial_.velocity;
+  if (prescribed_ != nullptr) {
+    trial_.rotation = prescribed_->rotation;
+    trial_.position = prescribed_->position;
+  } else {
+    trial_.rotation = state.rotation * cayley(0.5 * h * (w0.segment<3>(3) + w1.segment<3>(3)));
+    trial_.position =
+        state.position + 0.5 * h * (state.rotation * w0.segment<3>(0) + trial_.rotation * w1.segment<3>(0));
+  }
+  trial_.zeta = state.zeta + 0.5 * h * (w0.tail(r) + w1.tail(r));
+  balance_at(trial_, end_);
+  residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
+  residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
+  residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
+  if (stiffening()) {  // - K_geo zeta in both ends' modal loads, with the step's accelerations
+    const Vec3 alpha = (w1.segment<3>(3) - w0.segment<3>(3)) / h;
+    const Vec3 acceleration = (w1.segment<3>(0) - w0.segment<3>(0)) / h +
+                              0.25 * (w0.segment<3>(3) + w1.segment<3>(3)).cross(w0.segment<3>(0) + w1.segment<3>(0));
+    stiffening_force(state, alpha, acceleration, stiffening_start_);
+    end_coefficients_ = stiffening_force(trial_, alpha, acceleration, stiffening_end_);
+    residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
+  }
+  const double scale = start_scale + end_.linear.norm() + end_.angular.norm() + end_.modal_momentum.norm() +
+                       h * (end_.force.norm() + end_.torque.norm() + end_.modal_load.norm()) + 1e-300;
+  if (!reduced()) return residual_.norm() / scale;
+  reduced_residual_.noalias() = projection_ * residual_;
+  return reduced_residual_.norm() / scale;
 }
 
 FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double h) {
@@ -242,7 +264,9 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
   balance_at(state, start_);
   check_support(state);
   trial_ = state;
-  predict(state, h, trial_.velocity);
+  previous_omega_ = state.velocity.segment<3>(3);
+  // The iterations start from w_n: the first is then a linearly implicit step. (An explicit
+  // predictor saves an iteration on a soft body but throws a stiff one's high modes far off.)
   constrain(state, trial_.velocity);
   // The residual is relative to the momenta and impulses of the step: those at its start, and
   // (iteration by iteration) those at its end, which alone are nonzero for a body at rest
@@ -255,38 +279,7 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
   double last_residual = 0.0;
   bool refresh = true;
   for (stats.iterations = 1; stats.iterations <= kMaxIterations; ++stats.iterations) {
-    // The end of the step from the trial velocities.
-    const Vec& w0 = state.velocity;
-    const Vec& w1 = trial_.velocity;
-    if (prescribed_ != nullptr) {
-      trial_.rotation = prescribed_->rotation;
-      trial_.position = prescribed_->position;
-    } else {
-      trial_.rotation = state.rotation * cayley(0.5 * h * (w0.segment<3>(3) + w1.segment<3>(3)));
-      trial_.position =
-          state.position + 0.5 * h * (state.rotation * w0.segment<3>(0) + trial_.rotation * w1.segment<3>(0));
-    }
-    trial_.zeta = state.zeta + 0.5 * h * (w0.tail(r) + w1.tail(r));
-    balance_at(trial_, end_);
-    residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
-    residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
-    residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
-    if (stiffening()) {  // - K_geo zeta in both ends' modal loads, with the step's accelerations
-      const Vec3 alpha = (w1.segment<3>(3) - w0.segment<3>(3)) / h;
-      const Vec3 acceleration = (w1.segment<3>(0) - w0.segment<3>(0)) / h +
-                                0.25 * (w0.segment<3>(3) + w1.segment<3>(3)).cross(w0.segment<3>(0) + w1.segment<3>(0));
-      stiffening_force(state, alpha, acceleration, stiffening_start_);
-      end_coefficients_ = stiffening_force(trial_, alpha, acceleration, stiffening_end_);
-      residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
-    }
-    const double scale = start_scale + end_.linear.norm() + end_.angular.norm() + end_.modal_momentum.norm() +
-                         h * (end_.force.norm() + end_.torque.norm() + end_.modal_load.norm()) + 1e-300;
-    if (reduced()) {
-      reduced_residual_.noalias() = projection_ * residual_;
-      stats.residual = reduced_residual_.norm() / scale;
-    } else {
-      stats.residual = residual_.norm() / scale;
-    }
+    stats.residual = evaluate_trial(state, h, start_scale);
     if (!std::isfinite(stats.residual)) break;
     if (stats.residual <= kTolerance) {
       state = trial_;
@@ -311,24 +304,32 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
 }
 
 void FloatingFrameBody::factor_jacobian(double h) {
-  // The leading part of the Jacobian: the momenta's dependence through M at the end (turned
-  // to the world frame), and the modal stiffness and damping through zeta and eta.
+  // The Jacobian by w_{n+1}, with zeta_{n+1} = zeta_n + h/2 (eta_n + eta_{n+1}): the momenta
+  // M(zeta) w (their zeta-dependence included), turned to the world frame; dT/dzeta by w and
+  // zeta; the modal stiffness and damping. Left out: p's dependence on omega through R, of
+  // relative order h^2 |omega|, and the stiffening's dependence on the velocities.
   const Index r = inertia_.num_modes(), size = 6 + r;
+  inertia_.velocity_derivatives(trial_.zeta, trial_.velocity, dmomentum_, dgradient_dw_, dgradient_dzeta_);
+  momentum_jacobian_ = M_;
+  momentum_jacobian_.rightCols(r) += (0.5 * h) * dmomentum_;
   jacobian_.resize(size, size);
   const Mat3& R1 = trial_.rotation;
-  jacobian_.topRows(3).noalias() = R1 * M_.topRows(3);
-  jacobian_.middleRows(3, 3).noalias() = R1 * M_.middleRows(3, 3);
+  jacobian_.topRows(3).noalias() = R1 * momentum_jacobian_.topRows(3);
+  jacobian_.middleRows(3, 3).noalias() = R1 * momentum_jacobian_.middleRows(3, 3);
   jacobian_.middleRows(3, 3).noalias() += cross_matrix(trial_.position) * jacobian_.topRows(3);
-  // The rotation's dependence on omega_{n+1} (dR = R [dtheta]x, dtheta ~ h/2 domega) and
-  // the position's on v_{n+1} (dp = h/2 R dv): small for small h |omega| in relative terms,
-  // but not next to the first moment's coupling when the frame's origin is near the centre
-  // of mass (where M_v,omega is small).
-  const Mat3 turn_linear = -0.5 * h * R1 * cross_matrix(pi_.segment<3>(0));
+  // The rotation's dependence on omega_{n+1}: R_{n+1} = R_n cay(a), a = h/2 (omega_n +
+  // omega_{n+1}), turns by dR = R [dtheta]x with dtheta = T(a) da, T(a) = 4 / (4 + |a|^2)
+  // (I - [a]x / 2) the Cayley map's tangent; and the position's on v_{n+1} (dp = h/2 R dv).
+  const Vec3 a = 0.5 * h * (previous_omega_ + trial_.velocity.segment<3>(3));
+  const Mat3 tangent = (0.5 * h * 4.0 / (4.0 + a.squaredNorm())) * (Mat3::Identity() - 0.5 * cross_matrix(a));
+  const Mat3 turn_linear = -R1 * cross_matrix(pi_.segment<3>(0)) * tangent;
   jacobian_.block<3, 3>(0, 3) += turn_linear;
   jacobian_.block<3, 3>(3, 3) +=
-      cross_matrix(trial_.position) * turn_linear - 0.5 * h * R1 * cross_matrix(pi_.segment<3>(3));
+      cross_matrix(trial_.position) * turn_linear - R1 * cross_matrix(pi_.segment<3>(3)) * tangent;
   jacobian_.block<3, 3>(3, 0) -= 0.5 * h * cross_matrix(end_.linear) * R1;
-  jacobian_.bottomRows(r) = M_.bottomRows(r);
+  jacobian_.bottomRows(r) = momentum_jacobian_.bottomRows(r);
+  jacobian_.bottomRows(r) -= (0.5 * h) * dgradient_dw_;
+  jacobian_.bottomRightCorner(r, r) -= (0.25 * h * h) * dgradient_dzeta_;
   jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
   for (int k = 0; k < kInertialLoadCases && stiffening(); ++k)
     jacobian_.bottomRightCorner(r, r) += (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);

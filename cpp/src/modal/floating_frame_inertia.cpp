@@ -138,6 +138,39 @@ void FloatingFrameInertia::kinetic_energy_gradient(const Vec& zeta, const Vec& w
   energy_gradient(w.segment<3>(0), w.segment<3>(3), gradient);
 }
 
+void FloatingFrameInertia::velocity_derivatives(const Vec& zeta, const Vec& w, Matrix& dmomentum_dzeta,
+                                                Matrix& dgradient_dw, Matrix& dgradient_dzeta) const {
+  check_sizes(zeta, w);
+  const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);
+  const double omega2 = omega.squaredNorm();
+  Mat3 uu, rate_uu;
+  moments_of(zeta, u_moments_, uu);
+  moment_rates(zeta, w.tail(r_), rate_uu);
+  dmomentum_dzeta.resize(6 + r_, r_);
+  dgradient_dw.resize(r_, 6 + r_);
+  dgradient_dzeta.resize(r_, r_);
+  for (Index k = 0; k < r_; ++k) {
+    const Vec3& s = first_[k + 1];
+    const Mat3& Quk = u_moments_[k + 1];
+    const Mat3 symmetric = Quk + Quk.transpose();  // dQ_uu/dzeta_k
+    // M w = (m v - c x omega + A eta, c x v + J omega + B eta, A^T v + B^T omega + M_r eta), with
+    // dc = s_k, dJ = cross_inertia(dQ_uu), d(B eta) = axial(sum_l eta_l Q_kl) = -axial(Q_{u'k}),
+    // d(B^T omega)_l = omega . axial(Q_kl).
+    dmomentum_dzeta.block<3, 1>(0, k) = -s.cross(omega);
+    dmomentum_dzeta.block<3, 1>(3, k) = s.cross(v) + cross_inertia(symmetric) * omega - axial(u_moments_rate_[k + 1]);
+    // dT/dzeta_k = -v . (s_k x omega) + tr(Q_uk) |omega|^2 - omega^T Q_uk omega - omega . axial(Q_{u'k}).
+    dgradient_dw.block<1, 3>(k, 0) = -s.cross(omega).transpose();
+    dgradient_dw.block<1, 3>(k, 3) =
+        (s.cross(v) + 2.0 * Quk.trace() * omega - symmetric * omega - axial(u_moments_rate_[k + 1])).transpose();
+    for (Index l = 0; l < r_; ++l) {
+      const Mat3& Qkl = Q(k + 1, l + 1);
+      dmomentum_dzeta(6 + l, k) = omega.dot(axial(Qkl));
+      dgradient_dw(k, 6 + l) = -omega.dot(axial(Q(l + 1, k + 1)));
+      dgradient_dzeta(k, l) = Q(l + 1, k + 1).trace() * omega2 - omega.dot(Q(l + 1, k + 1) * omega);
+    }
+  }
+}
+
 void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const {
   check_sizes(zeta, w);
   const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);

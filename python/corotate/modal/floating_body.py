@@ -129,6 +129,7 @@ class FloatingBody(SettableOnly):
         if stiffening:
             self._core.set_geometric_stiffness(list(inertial_geometric_stiffness(body, basis, self._origin)))
         self._motion: FrameMotion | None = None
+        self._last_iterations = 0
         self._support = "free"
         self.set_support(support, axis)
         self.gravity = gravity
@@ -142,7 +143,7 @@ class FloatingBody(SettableOnly):
             if not 0 <= int(origin) < len(points):
                 raise ValueError(f"the frame's origin node {origin} does not exist: the mesh has {len(points)} nodes")
             return np.array(points[int(origin)], dtype=np.float64)
-        return _vector3(origin, "origin")  # type: ignore[arg-type]
+        return _vector3(origin, "origin")
 
     # -- settings -----------------------------------------------------------------------------
 
@@ -342,20 +343,27 @@ class FloatingBody(SettableOnly):
         if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 0:
             raise ValueError(f"n must be an integer >= 0, got {n!r}")
         if self._motion is None:
-            self._core.step(self._dt, int(n))
+            self._last_iterations = int(self._core.step(self._dt, int(n))[0])
             return
         saved = (self.position, self.rotation, self._core.velocity, self.q, self.time)
+        iterations = 0
         try:
             for _ in range(int(n)):
                 t = self.time + self._dt
                 p, R, v, w = self._motion(t)
                 p, R = _vector3(p, "the motion's position"), _rotation(R, "the motion's rotation")
                 v, w = _vector3(v, "the motion's velocity"), _vector3(w, "the motion's angular velocity")
-                self._core.step_prescribed(self._dt, p, R, R.T @ v, R.T @ w)
+                iterations += self._core.step_prescribed(self._dt, p, R, R.T @ v, R.T @ w)[0]
         except BaseException:
             self._core.set_state(saved[0], saved[1], saved[3], saved[2])
             self._core.time = saved[4]
             raise
+        self._last_iterations = iterations
+
+    @property
+    def last_iterations(self) -> int:
+        """Newton iterations of the last step() call, all its steps together."""
+        return self._last_iterations
 
     # -- output ---------------------------------------------------------------------------
 

@@ -80,7 +80,8 @@ class FloatingFrameBody {
   // iterations do not converge (the state is then left as it was).
   FloatingFrameStepStats step(FloatingFrameState& state, double h);
   // n steps (free or held by the support); when one fails, the state is put back as it was
-  // before the call and the error rethrown. Returns the last step's stats.
+  // before the call and the error rethrown. Returns the iterations of all n steps and the
+  // last step's residual.
   FloatingFrameStepStats advance(FloatingFrameState& state, double h, int n);
 
   // One step with the frame's motion prescribed: `end` is its pose and velocities at the end
@@ -104,13 +105,14 @@ class FloatingFrameBody {
   void balance_at(const FloatingFrameState& s, Balance& b) const;
   // Gravity and the nodal loads in the frame: force, moment about the origin, modal load.
   void frame_loads(const FloatingFrameState& s, Vec3& force, Vec3& torque, Eigen::Ref<Vec> modal) const;
+  // trial_'s end of the step and residual_ from trial_.velocity; returns the relative residual.
+  double evaluate_trial(const FloatingFrameState& state, double h, double start_scale);
   // The Jacobian's leading part at trial_ (M_, pi_, end_ from its balance), factored into lu_.
   void factor_jacobian(double h);
   // out = K_geo zeta at s for the step's accelerations; returns the load cases' coefficients.
   std::array<double, kInertialLoadCases> stiffening_force(const FloatingFrameState& s, const Vec3& alpha,
                                                           const Vec3& acceleration, Vec& out);
   void check(const FloatingFrameState& s) const;
-  void predict(const FloatingFrameState& s, double h, Vec& w);
   void check_support(const FloatingFrameState& s) const;
   void constrain(const FloatingFrameState& s, Vec& w) const;
   void support_maps(const FloatingFrameState& s);
@@ -132,12 +134,13 @@ class FloatingFrameBody {
   Vec reduced_residual_, reduced_correction_;
   // Work space (sized on first use).
   mutable Eigen::MatrixXd M_;
-  mutable Vec pi_, force_;
-  Eigen::MatrixXd jacobian_;
+  mutable Vec pi_;
+  Eigen::MatrixXd jacobian_, momentum_jacobian_, dmomentum_, dgradient_dw_, dgradient_dzeta_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Vec residual_, correction_;
   Balance start_, end_;
   FloatingFrameState trial_;
+  Vec3 previous_omega_ = Vec3::Zero();  // omega_n of the step being solved
 };
 
 }  // namespace corotate

@@ -54,6 +54,11 @@ class FloatingFrameInertia {
   void quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const;
   // dT/dzeta at (zeta, w): the modal coordinates' share of the velocity-dependent forces.
   void kinetic_energy_gradient(const Vec& zeta, const Vec& w, Vec& gradient) const;
+  // The derivatives the implicit step's Jacobian needs, at (zeta, w): d(M(zeta) w)/dzeta
+  // ((6 + r) x r), and of dT/dzeta by w (r x (6 + r)) and by zeta (r x r). M is affine in zeta
+  // but for J (quadratic), and dT/dzeta quadratic in w: all follow from the moments Q_pq.
+  void velocity_derivatives(const Vec& zeta, const Vec& w, Matrix& dmomentum_dzeta, Matrix& dgradient_dw,
+                            Matrix& dgradient_dzeta) const;
   // A's column k: sum m_ij Psi_k at node j (mode k's first moment; the modal load of a
   // uniform acceleration a in the frame is -a . A_k).
   const Vec3& modal_first_moment(Index k) const { return first_[k + 1]; }
