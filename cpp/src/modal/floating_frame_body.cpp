@@ -7,16 +7,6 @@
 
 namespace corotate {
 
-namespace {
-
-// The Cayley map: a rotation close to exp([a]x), exactly orthogonal.
-Mat3 cayley(const Vec3& a) {
-  const Mat3 A = cross_matrix(a);
-  return Mat3::Identity() + (4.0 / (4.0 + a.squaredNorm())) * (A + 0.5 * A * A);
-}
-
-}  // namespace
-
 FloatingFrameBody::FloatingFrameBody(FloatingFrameInertia inertia, Eigen::MatrixXd stiffness, Eigen::MatrixXd damping)
     : inertia_(std::move(inertia)), stiffness_(std::move(stiffness)), damping_(std::move(damping)) {
   const Index r = inertia_.num_modes();
@@ -223,6 +213,20 @@ FloatingFrameStepStats FloatingFrameBody::advance(FloatingFrameState& state, dou
   return stats;
 }
 
+void FloatingFrameBody::add_stiffening(const FloatingFrameState& state, double h) {
+  // - K_geo zeta in both ends' modal loads, with the step's accelerations of the frame.
+  if (!stiffening()) return;
+  const Index r = inertia_.num_modes();
+  const Vec& w0 = state.velocity;
+  const Vec& w1 = trial_.velocity;
+  const Vec3 alpha = (w1.segment<3>(3) - w0.segment<3>(3)) / h;
+  const Vec3 acceleration = (w1.segment<3>(0) - w0.segment<3>(0)) / h +
+                            0.25 * (w0.segment<3>(3) + w1.segment<3>(3)).cross(w0.segment<3>(0) + w1.segment<3>(0));
+  stiffening_force(state, alpha, acceleration, stiffening_start_);
+  end_coefficients_ = stiffening_force(trial_, alpha, acceleration, stiffening_end_);
+  residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
+}
+
 double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double h, double start_scale) {
   // The end of the step from the trial velocities, its balances, and the residual of the
   // step's equations (projected on what a support leaves free), relative to their scale.
@@ -233,7 +237,7 @@ double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double
     trial_.rotation = prescribed_->rotation;
     trial_.position = prescribed_->position;
   } else {
-    trial_.rotation = state.rotation * cayley(0.5 * h * (w0.segment<3>(3) + w1.segment<3>(3)));
+    trial_.rotation = state.rotation * cayley_rotation(0.5 * h * (w0.segment<3>(3) + w1.segment<3>(3)));
     trial_.position =
         state.position + 0.5 * h * (state.rotation * w0.segment<3>(0) + trial_.rotation * w1.segment<3>(0));
   }
@@ -242,14 +246,7 @@ double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double
   residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
   residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
   residual_.tail(r) = end_.modal_momentum - start_.modal_momentum - 0.5 * h * (start_.modal_load + end_.modal_load);
-  if (stiffening()) {  // - K_geo zeta in both ends' modal loads, with the step's accelerations
-    const Vec3 alpha = (w1.segment<3>(3) - w0.segment<3>(3)) / h;
-    const Vec3 acceleration = (w1.segment<3>(0) - w0.segment<3>(0)) / h +
-                              0.25 * (w0.segment<3>(3) + w1.segment<3>(3)).cross(w0.segment<3>(0) + w1.segment<3>(0));
-    stiffening_force(state, alpha, acceleration, stiffening_start_);
-    end_coefficients_ = stiffening_force(trial_, alpha, acceleration, stiffening_end_);
-    residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
-  }
+  add_stiffening(state, h);
   const double scale = start_scale + end_.linear.norm() + end_.angular.norm() + end_.modal_momentum.norm() +
                        h * (end_.force.norm() + end_.torque.norm() + end_.modal_load.norm()) + 1e-300;
   if (!reduced()) return residual_.norm() / scale;
@@ -260,11 +257,12 @@ double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double
 FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double h) {
   if (!(h > 0.0) || !std::isfinite(h)) throw InvalidInput("floating frame: the time step must be positive and finite");
   check(state);
+  previous_omega_ = state.velocity.segment<3>(3);
+  if (support_ == FrameSupport::Free && prescribed_ == nullptr) return step_free(state, h);
   const Index r = inertia_.num_modes(), size = 6 + r;
   balance_at(state, start_);
   check_support(state);
   trial_ = state;
-  previous_omega_ = state.velocity.segment<3>(3);
   // The iterations start from w_n: the first is then a linearly implicit step. (An explicit
   // predictor saves an iteration on a soft body but throws a stiff one's high modes far off.)
   constrain(state, trial_.velocity);
@@ -306,8 +304,9 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
 void FloatingFrameBody::factor_jacobian(double h) {
   // The Jacobian by w_{n+1}, with zeta_{n+1} = zeta_n + h/2 (eta_n + eta_{n+1}): the momenta
   // M(zeta) w (their zeta-dependence included), turned to the world frame; dT/dzeta by w and
-  // zeta; the modal stiffness and damping. Left out: p's dependence on omega through R, of
-  // relative order h^2 |omega|, and the stiffening's dependence on the velocities.
+  // zeta; the modal stiffness and damping. Left out: the stiffening's dependence on the
+  // velocities and the loads' on the rotation (the body-frame forces and gravity's share of the
+  // modal loads and of the moment), of relative order h^2.
   const Index r = inertia_.num_modes(), size = 6 + r;
   inertia_.velocity_derivatives(trial_.zeta, trial_.velocity, dmomentum_, dgradient_dw_, dgradient_dzeta_);
   momentum_jacobian_ = M_;
@@ -326,7 +325,12 @@ void FloatingFrameBody::factor_jacobian(double h) {
   jacobian_.block<3, 3>(0, 3) += turn_linear;
   jacobian_.block<3, 3>(3, 3) +=
       cross_matrix(trial_.position) * turn_linear - R1 * cross_matrix(pi_.segment<3>(3)) * tangent;
-  jacobian_.block<3, 3>(3, 0) -= 0.5 * h * cross_matrix(end_.linear) * R1;
+  // p_{n+1} = p_n + h/2 (R_n v_n + R_{n+1} v_{n+1}) moves with v_{n+1} and, through R_{n+1},
+  // with omega_{n+1}; the angular balance about the world origin feels it through p x L and
+  // the loads' moment p x F (a body far from the origin, falling fast, needs both).
+  const Mat3 lever = -cross_matrix(end_.linear) + 0.5 * h * cross_matrix(end_.force);
+  jacobian_.block<3, 3>(3, 0) += lever * (0.5 * h * R1);
+  jacobian_.block<3, 3>(3, 3) -= lever * (0.5 * h * R1 * cross_matrix(trial_.velocity.segment<3>(0)) * tangent);
   jacobian_.bottomRows(r) = momentum_jacobian_.bottomRows(r);
   jacobian_.bottomRows(r) -= (0.5 * h) * dgradient_dw_;
   jacobian_.bottomRightCorner(r, r) -= (0.25 * h * h) * dgradient_dzeta_;

@@ -26,10 +26,17 @@
 #include <Eigen/LU>
 #include <vector>
 
+#include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
 #include "corotate/modal/floating_frame_inertia.hpp"
 #include "corotate/modal/inertial_load_cases.hpp"
 
 namespace corotate {
+
+// The Cayley map: a rotation close to exp([a]x), exactly orthogonal.
+inline Mat3 cayley_rotation(const Vec3& a) {
+  const Mat3 A = cross_matrix(a);
+  return Mat3::Identity() + (4.0 / (4.0 + a.squaredNorm())) * (A + 0.5 * A * A);
+}
 
 struct FloatingFrameState {
   Vec3 position = Vec3::Zero();     // p, the frame's origin in the world
@@ -105,6 +112,16 @@ class FloatingFrameBody {
   void balance_at(const FloatingFrameState& s, Balance& b) const;
   // Gravity and the nodal loads in the frame: force, moment about the origin, modal load.
   void frame_loads(const FloatingFrameState& s, Vec3& force, Vec3& torque, Eigen::Ref<Vec> modal) const;
+  // A free body's step, about its centre of mass (floating_frame_free_step.cpp).
+  FloatingFrameStepStats step_free(FloatingFrameState& state, double h);
+  // w_rel = (c/m x omega - A eta / m, omega, eta): the frame velocity that keeps the centre of mass still.
+  void relative_velocity(const Vec& zeta, const Vec3& omega, const Eigen::Ref<const Vec>& eta, Vec& w_rel) const;
+  // A free body's momenta and loads: linear (m V), angular and moments about its centre of
+  // mass, modal.
+  void centre_balance_at(const Vec& zeta, const Mat3& R, const Vec3& V, const Vec& w_rel, Balance& b) const;
+  void factor_free_jacobian(double h, const Vec3& V0);
+  // + h/2 (K_geo zeta)_{n, n+1} in the modal residual, from state and trial_'s frame velocities.
+  void add_stiffening(const FloatingFrameState& state, double h);
   // trial_'s end of the step and residual_ from trial_.velocity; returns the relative residual.
   double evaluate_trial(const FloatingFrameState& state, double h, double start_scale);
   // The Jacobian's leading part at trial_ (M_, pi_, end_ from its balance), factored into lu_.
@@ -136,6 +153,8 @@ class FloatingFrameBody {
   mutable Eigen::MatrixXd M_;
   mutable Vec pi_;
   Eigen::MatrixXd jacobian_, momentum_jacobian_, dmomentum_, dgradient_dw_, dgradient_dzeta_;
+  Eigen::MatrixXd relative_map_, gradient_jacobian_;  // the free step's
+  Vec unknown_, w_rel_, w_rel_start_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   Vec residual_, correction_;
   Balance start_, end_;
