@@ -143,7 +143,10 @@ def test_a_thrown_body_deforms_as_the_same_body_at_rest(link):
         fb.set_state(velocity=(speed, -speed, 0.0))
         fb.step(200)
         runs.append(fb.q)
-    np.testing.assert_allclose(runs[1], runs[0], rtol=0, atol=1e-11 * np.abs(runs[0]).max())
+    # Round-off of the Newton solves differs between CPUs and code paths by
+    # ~1e-10 relative; before the centre-of-mass split 3 m/s already moved
+    # the modes by 1e-4 relative, so 1e-9 still separates right from wrong.
+    np.testing.assert_allclose(runs[1], runs[0], rtol=0, atol=1e-9 * np.abs(runs[0]).max())
 
 
 def test_world_forces_change_the_momentum_exactly(link):
