@@ -119,13 +119,18 @@ class FloatingFrameBody {
   // A free body's momenta and loads: linear (m V), angular and moments about its centre of
   // mass, modal.
   void centre_balance_at(const Vec& zeta, const Mat3& R, const Vec3& V, const Vec& w_rel, Balance& b) const;
+  // (The stiffening's dependence on the velocities is left out here: a free body's frame
+  // velocities enter it through w_rel, and its inertial loads are small beside a driven one's.)
   void factor_free_jacobian(double h, const Vec3& V0);
   // + h/2 (K_geo zeta)_{n, n+1} in the modal residual, from state and trial_'s frame velocities.
   void add_stiffening(const FloatingFrameState& state, double h);
+  // stiffening_by_velocity_ = d/d(v, omega)_{n+1} of that term (r x 6, the frame's velocities
+  // in the frame).
+  void stiffening_velocity_jacobian(const FloatingFrameState& state, double h);
   // trial_'s end of the step and residual_ from trial_.velocity; returns the relative residual.
   double evaluate_trial(const FloatingFrameState& state, double h, double start_scale);
   // The Jacobian's leading part at trial_ (M_, pi_, end_ from its balance), factored into lu_.
-  void factor_jacobian(double h);
+  void factor_jacobian(const FloatingFrameState& state, double h);
   // out = K_geo zeta at s for the step's accelerations; returns the load cases' coefficients.
   std::array<double, kInertialLoadCases> stiffening_force(const FloatingFrameState& s, const Vec3& alpha,
                                                           const Vec3& acceleration, Vec& out);
@@ -147,6 +152,8 @@ class FloatingFrameBody {
   Eigen::MatrixXd stiffening_cases_;  // r x 12 r: [K_0 ... K_11]
   std::array<double, kInertialLoadCases> end_coefficients_{};
   Vec stiffening_weights_, stiffening_start_, stiffening_end_;
+  Eigen::MatrixXd stiffening_by_velocity_;
+  Vec case_start_, case_end_;  // K_c zeta at the step's two ends, one load case c
   Eigen::MatrixXd free_velocities_, projection_, projected_jacobian_, reduced_jacobian_;
   Vec reduced_residual_, reduced_correction_;
   // Work space (sized on first use).
