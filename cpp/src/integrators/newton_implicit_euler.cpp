@@ -156,8 +156,8 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
     // iteration) within 1024 times that (the estimate is rough: stalls were seen at 30-80
     // times it), the step is converged as far as it can be. Quadratic convergence never
     // stalls, so it goes on to the tolerance.
-    const double round_off = 1024 * std::numeric_limits<double>::epsilon() *
-                             as_dofs(x_).lpNorm<Eigen::Infinity>() * diagonal_norm(system_);
+    const double round_off =
+        1024 * std::numeric_limits<double>::epsilon() * as_dofs(x_).lpNorm<Eigen::Infinity>() * diagonal_norm(system_);
     if (g_norm <= round_off && g_norm > 0.5 * previous_g_norm) break;
     previous_g_norm = g_norm;
     if (it == settings().newton_iterations) {
