@@ -222,7 +222,10 @@ void FloatingFrameBody::add_stiffening(const FloatingFrameState& state, double h
   const Vec3 alpha = (w1.segment<3>(3) - w0.segment<3>(3)) / h;
   const Vec3 acceleration = (w1.segment<3>(0) - w0.segment<3>(0)) / h +
                             0.25 * (w0.segment<3>(3) + w1.segment<3>(3)).cross(w0.segment<3>(0) + w1.segment<3>(0));
-  stiffening_force(state, alpha, acceleration, stiffening_start_);
+  // The start's K_c zeta_n are the step's (start_cases_): only their weights change.
+  const auto c = inertial_load_coefficients(state.velocity.segment<3>(3), alpha,
+                                            acceleration - state.rotation.transpose() * gravity_);
+  stiffening_start_.noalias() = start_cases_ * Eigen::Map<const Eigen::Matrix<double, kInertialLoadCases, 1>>(c.data());
   end_coefficients_ = stiffening_force(trial_, alpha, acceleration, stiffening_end_);
   residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
 }
@@ -243,7 +246,7 @@ void FloatingFrameBody::stiffening_velocity_jacobian(const FloatingFrameState& s
   stiffening_by_velocity_.setZero(r, 6);
   for (int k = 0; k < kInertialLoadCases; ++k) {
     const auto K = stiffening_cases_.middleCols(k * r, r);
-    case_start_.noalias() = K * state.zeta;
+    case_start_ = start_cases_.col(k);
     case_end_.noalias() = K * trial_.zeta;
     if (k < 6) {  // centrifugal: omega_a omega_b at the end
       static constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
@@ -296,6 +299,12 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
   if (!(h > 0.0) || !std::isfinite(h)) throw InvalidInput("floating frame: the time step must be positive and finite");
   check(state);
   previous_omega_ = state.velocity.segment<3>(3);
+  if (stiffening()) {  // K_c zeta_n, one column per load case: fixed over the step's iterations
+    const Index r = inertia_.num_modes();
+    start_cases_.resize(r, kInertialLoadCases);
+    for (int k = 0; k < kInertialLoadCases; ++k)
+      start_cases_.col(k).noalias() = stiffening_cases_.middleCols(k * r, r) * state.zeta;
+  }
   if (support_ == FrameSupport::Free && prescribed_ == nullptr) return step_free(state, h);
   const Index r = inertia_.num_modes(), size = 6 + r;
   balance_at(state, start_);

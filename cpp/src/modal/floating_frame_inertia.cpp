@@ -53,17 +53,51 @@ FloatingFrameInertia::FloatingFrameInertia(const Nodes& X, const Eigen::SparseMa
   modal_mass_.resize(r_, r_);
   for (Index k = 0; k < r_; ++k)
     for (Index l = 0; l < r_; ++l) modal_mass_(k, l) = Q(k + 1, l + 1).trace();
+  moment_base_.resize(9 * fields);
+  moment_columns_.resize(9 * fields, r_);
+  for (Index q = 0; q < fields; ++q) {
+    moment_base_.segment<9>(9 * q) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(Q(0, q).data());
+    for (Index k = 0; k < r_; ++k)
+      moment_columns_.block<9, 1>(9 * q, k) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(Q(k + 1, q).data());
+  }
+  static constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+  for (auto& m : modal_axial_) m.resize(r_, r_);
+  for (auto& m : modal_symmetric_) m.resize(r_, r_);
+  modal_trace_.resize(r_, r_);
+  for (Index k = 0; k < r_; ++k)
+    for (Index l = 0; l < r_; ++l) {
+      const Mat3& Qkl = Q(k + 1, l + 1);
+      const Vec3 ax = axial(Qkl);
+      for (int a = 0; a < 3; ++a) modal_axial_[a](k, l) = ax[a];
+      modal_trace_(k, l) = Qkl.trace();
+      for (int p = 0; p < 6; ++p) {
+        const int a = kPairs[p][0], b = kPairs[p][1];
+        modal_symmetric_[p](k, l) = 0.5 * (Qkl(a, b) + Qkl(b, a));
+      }
+    }
 }
 
 void FloatingFrameInertia::moments_of(const Vec& zeta, std::vector<Mat3>& u_moments, Mat3& uu) const {
+  // One matrix-vector product, skipped when zeta is the last one's (a step's balance, its dT/dzeta
+  // and its Jacobian ask for the same zeta).
   const Index fields = r_ + 1;
+  if (cached_ && &u_moments == &u_moments_ && cached_zeta_.size() == zeta.size() && cached_zeta_ == zeta) {
+    uu = cached_uu_;
+    return;
+  }
+  stacked_.noalias() = moment_columns_ * zeta;
+  stacked_ += moment_base_;
   u_moments.resize(fields);
-  uu.setZero();
-  for (Index q = 0; q < fields; ++q) {
-    Mat3 sum = Q(0, q);
-    for (Index k = 0; k < r_; ++k) sum += zeta[k] * Q(k + 1, q);
-    u_moments[q] = sum;
-    uu += (q == 0 ? 1.0 : zeta[q - 1]) * sum;
+  uu = Eigen::Map<const Mat3>(stacked_.data());
+  u_moments[0] = uu;
+  for (Index q = 1; q < fields; ++q) {
+    u_moments[q] = Eigen::Map<const Mat3>(stacked_.data() + 9 * q);
+    uu += zeta[q - 1] * u_moments[q];
+  }
+  if (&u_moments == &u_moments_) {
+    cached_zeta_ = zeta;
+    cached_uu_ = uu;
+    cached_ = true;
   }
 }
 
@@ -108,13 +142,13 @@ void FloatingFrameInertia::check_sizes(const Vec& zeta, const Vec& w) const {
 void FloatingFrameInertia::moment_rates(const Vec& zeta, const Eigen::Ref<const Vec>& eta, Mat3& rate_uu) const {
   // Rates along zeta' = eta: Q_{u'q} = sum_k eta_k Q_kq, Q_{u'u} = sum_q a_q Q_{u'q}.
   const Index fields = r_ + 1;
+  stacked_.noalias() = moment_columns_ * eta;
   u_moments_rate_.resize(fields);
-  rate_uu.setZero();
-  for (Index q = 0; q < fields; ++q) {
-    Mat3 sum = Mat3::Zero();
-    for (Index k = 0; k < r_; ++k) sum += eta[k] * Q(k + 1, q);
-    u_moments_rate_[q] = sum;
-    rate_uu += (q == 0 ? 1.0 : zeta[q - 1]) * sum;
+  rate_uu = Eigen::Map<const Mat3>(stacked_.data());
+  u_moments_rate_[0] = rate_uu;
+  for (Index q = 1; q < fields; ++q) {
+    u_moments_rate_[q] = Eigen::Map<const Mat3>(stacked_.data() + 9 * q);
+    rate_uu += zeta[q - 1] * u_moments_rate_[q];
   }
 }
 
@@ -162,13 +196,23 @@ void FloatingFrameInertia::velocity_derivatives(const Vec& zeta, const Vec& w, M
     dgradient_dw.block<1, 3>(k, 0) = -s.cross(omega).transpose();
     dgradient_dw.block<1, 3>(k, 3) =
         (s.cross(v) + 2.0 * Quk.trace() * omega - symmetric * omega - axial(u_moments_rate_[k + 1])).transpose();
-    for (Index l = 0; l < r_; ++l) {
-      const Mat3& Qkl = Q(k + 1, l + 1);
-      dmomentum_dzeta(6 + l, k) = omega.dot(axial(Qkl));
-      dgradient_dw(k, 6 + l) = -omega.dot(axial(Q(l + 1, k + 1)));
-      dgradient_dzeta(k, l) = Q(l + 1, k + 1).trace() * omega2 - omega.dot(Q(l + 1, k + 1) * omega);
-    }
   }
+  // The modal rows, from the precomputed tables: (6 + l, k) = omega . axial(Q_kl),
+  // dgradient_dw(k, 6 + l) = -omega . axial(Q_lk), dgradient_dzeta(k, l) = tr(Q_lk) |omega|^2 -
+  // omega^T Q_lk omega (only Q_lk's symmetric part counts there).
+  table_.noalias() = omega[0] * modal_axial_[0];
+  table_.noalias() += omega[1] * modal_axial_[1];
+  table_.noalias() += omega[2] * modal_axial_[2];
+  dmomentum_dzeta.bottomRows(r_) = table_.transpose();
+  dgradient_dw.rightCols(r_) = -table_.transpose();
+  table_.noalias() = omega2 * modal_trace_;
+  table_.noalias() -= (omega[0] * omega[0]) * modal_symmetric_[0];
+  table_.noalias() -= (omega[1] * omega[1]) * modal_symmetric_[1];
+  table_.noalias() -= (omega[2] * omega[2]) * modal_symmetric_[2];
+  table_.noalias() -= (2.0 * omega[0] * omega[1]) * modal_symmetric_[3];
+  table_.noalias() -= (2.0 * omega[0] * omega[2]) * modal_symmetric_[4];
+  table_.noalias() -= (2.0 * omega[1] * omega[2]) * modal_symmetric_[5];
+  dgradient_dzeta = table_.transpose();
 }
 
 void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const {

@@ -154,6 +154,7 @@ class FloatingFrameBody {
   Vec stiffening_weights_, stiffening_start_, stiffening_end_;
   Eigen::MatrixXd stiffening_by_velocity_;
   Vec case_start_, case_end_;  // K_c zeta at the step's two ends, one load case c
+  Eigen::MatrixXd start_cases_;  // r x 12: K_c zeta_n, the step's start, per load case
   Eigen::MatrixXd free_velocities_, projection_, projected_jacobian_, reduced_jacobian_;
   Vec reduced_residual_, reduced_correction_;
   // Work space (sized on first use).

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <Eigen/SparseCore>
+#include <array>
 #include <vector>
 
 #include "corotate/common.hpp"
@@ -83,9 +84,24 @@ class FloatingFrameInertia {
   std::vector<Mat3> moments_;  // (r + 1)^2 of them, row p, column q
   std::vector<Vec3> first_;    // s_p
   Matrix modal_mass_;
+  // The same moments laid out for matrix-vector products (vectorised, a step's hot path):
+  // moment_base_ stacks vec(Q_0q) over q, column k of moment_columns_ stacks vec(Q_{k+1,q}),
+  // so the u-moments are moment_base_ + moment_columns_ zeta and their rates
+  // moment_columns_ eta. For the Jacobian, r x r tables of the modal moments Q_{k+1,l+1}: the
+  // three components of their axial vectors, their traces, and their symmetric parts' six
+  // entries (xx, yy, zz, xy, xz, yz).
+  Vec moment_base_;
+  Matrix moment_columns_;
+  std::array<Matrix, 3> modal_axial_;
+  Matrix modal_trace_;
+  std::array<Matrix, 6> modal_symmetric_;
   // Work space of the const members (a step allocates nothing after the first).
   mutable std::vector<Mat3> u_moments_, u_moments_rate_;
-  mutable Vec gradient_;
+  mutable Vec gradient_, stacked_;
+  mutable Vec cached_zeta_;  // moments_of's last zeta: u_moments_ and cached_uu_ belong to it
+  mutable Mat3 cached_uu_ = Mat3::Zero();
+  mutable bool cached_ = false;
+  mutable Matrix table_;  // velocity_derivatives' omega-weighted combination of the tables
 };
 
 }  // namespace corotate
