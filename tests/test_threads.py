@@ -3,6 +3,10 @@ threads; validated, process-wide, and the answer does not depend on it (bit for 
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -48,3 +52,26 @@ def test_two_threads_repeat_one_thread_to_the_bit(restore_threads):
     assert (one[:, 2] - one[:, 2].max()).min() < -1e-3  # the beam sagged
     np.testing.assert_array_equal(one, two)
     assert stats_one["iterations_per_step"] == stats_two["iterations_per_step"]
+
+
+def _threads_in_a_new_process(value: str) -> subprocess.CompletedProcess:
+    code = "import warnings; warnings.simplefilter('always'); import corotate as cr; print(cr.threads())"
+    env = {**os.environ, "COROTATE_THREADS": value}
+    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+
+
+def test_the_environment_variable_sets_the_count_at_import():
+    run = _threads_in_a_new_process("2" if cr.have_openmp() else "1")
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == ("2" if cr.have_openmp() else "1")
+    assert "COROTATE_THREADS" not in run.stderr
+
+
+@pytest.mark.parametrize(
+    "value, reason", [("two", "not an integer"), ("0", "at least 1"), ("-3", "at least 1"), ("1.5", "not an integer")]
+)
+def test_a_bad_environment_value_warns_and_keeps_one_thread(value, reason):
+    run = _threads_in_a_new_process(value)
+    assert run.returncode == 0, run.stderr  # the import does not fail over it
+    assert run.stdout.strip() == "1"
+    assert f"COROTATE_THREADS={value!r} ignored" in run.stderr and reason in run.stderr

@@ -4,13 +4,24 @@ The element sweep of a step (rotations, forces, stiffness assembly), the matrix-
 products and the block-Jacobi smoother of PCG run on this many threads when the core was
 built with OpenMP (``have_openmp()``). Results do not depend on it: a run on two threads
 repeats a one-thread run to the last bit (docs/benchmarks.md has the speed-ups).
+
+The default is 1 because a simulator shares its cores (a renderer, a haptic loop, other
+jobs): on a busy machine extra threads wait for each other at every barrier, and two threads
+were measured 2-8x slower than one there. ``set_threads(n)`` changes it; so does the
+environment variable COROTATE_THREADS=n, read when corotate is imported (a value that is not
+an integer >= 1 is ignored with a warning that names it).
 """
 
 from __future__ import annotations
 
 import numbers
+import os
+import warnings
 
 import corotate._core as _core
+
+#: The environment variable that sets the thread count at import.
+THREADS_VARIABLE = "COROTATE_THREADS"
 
 
 def set_threads(n: int) -> None:
@@ -37,3 +48,24 @@ def available_threads() -> int:
 def have_openmp() -> bool:
     """Whether the core was built with OpenMP; without it everything runs on one thread."""
     return bool(_core.have_openmp())
+
+
+def _threads_from_environment() -> None:
+    """set_threads(COROTATE_THREADS) when the variable is set; a bad value warns (naming the
+    variable and why) and leaves the count as it was: an import must not fail over it."""
+    value = os.environ.get(THREADS_VARIABLE, "").strip()
+    if not value:
+        return
+    try:
+        n = int(value)
+        set_threads(n)
+    except (TypeError, ValueError) as e:
+        reason = str(e) if value.lstrip("+-").isdigit() else "not an integer"
+        warnings.warn(
+            f"{THREADS_VARIABLE}={value!r} ignored ({reason}); the core runs on {threads()} thread(s)",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+
+
+_threads_from_environment()
