@@ -58,14 +58,19 @@ def _threads_from_environment() -> None:
         return
     try:
         n = int(value)
-        set_threads(n)
-    except (TypeError, ValueError) as e:
-        reason = str(e) if value.lstrip("+-").isdigit() else "not an integer"
-        warnings.warn(
-            f"{THREADS_VARIABLE}={value!r} ignored ({reason}); the core runs on {threads()} thread(s)",
-            RuntimeWarning,
-            stacklevel=2,
-        )
+    except ValueError:
+        reason = "not an integer"
+    else:
+        try:
+            set_threads(n)
+            return
+        except ValueError as e:
+            reason = str(e)
+    warnings.warn(
+        f"{THREADS_VARIABLE}={value!r} ignored ({reason}); the core runs on {threads()} thread(s)",
+        RuntimeWarning,
+        stacklevel=2,
+    )
 
 
 _threads_from_environment()

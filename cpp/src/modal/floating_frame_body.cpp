@@ -72,12 +72,17 @@ void FloatingFrameBody::balance_at(const FloatingFrameState& s, Balance& b) cons
   b.modal_load.noalias() -= damping_ * s.velocity.tail(r);
 }
 
+std::array<double, kInertialLoadCases> FloatingFrameBody::load_coefficients(const FloatingFrameState& s,
+                                                                            const Vec3& alpha,
+                                                                            const Vec3& acceleration) const {
+  return inertial_load_coefficients(s.velocity.segment<3>(3), alpha, acceleration - s.rotation.transpose() * gravity_);
+}
+
 std::array<double, kInertialLoadCases> FloatingFrameBody::stiffening_force(const FloatingFrameState& s,
                                                                            const Vec3& alpha, const Vec3& acceleration,
                                                                            Vec& out) {
   const Index r = inertia_.num_modes();
-  const auto c =
-      inertial_load_coefficients(s.velocity.segment<3>(3), alpha, acceleration - s.rotation.transpose() * gravity_);
+  const auto c = load_coefficients(s, alpha, acceleration);
   // K_geo zeta = [K_0 ... K_11] (c kron zeta): one product.
   for (int k = 0; k < kInertialLoadCases; ++k) stiffening_weights_.segment(k * r, r) = c[k] * s.zeta;
   out.noalias() = stiffening_cases_ * stiffening_weights_;
@@ -223,8 +228,7 @@ void FloatingFrameBody::add_stiffening(const FloatingFrameState& state, double h
   const Vec3 acceleration = (w1.segment<3>(0) - w0.segment<3>(0)) / h +
                             0.25 * (w0.segment<3>(3) + w1.segment<3>(3)).cross(w0.segment<3>(0) + w1.segment<3>(0));
   // The start's K_c zeta_n are the step's (start_cases_): only their weights change.
-  const auto c = inertial_load_coefficients(state.velocity.segment<3>(3), alpha,
-                                            acceleration - state.rotation.transpose() * gravity_);
+  const auto c = load_coefficients(state, alpha, acceleration);
   stiffening_start_.noalias() = start_cases_ * Eigen::Map<const Eigen::Matrix<double, kInertialLoadCases, 1>>(c.data());
   end_coefficients_ = stiffening_force(trial_, alpha, acceleration, stiffening_end_);
   residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
@@ -246,16 +250,14 @@ void FloatingFrameBody::stiffening_velocity_jacobian(const FloatingFrameState& s
   stiffening_by_velocity_.setZero(r, 6);
   for (int k = 0; k < kInertialLoadCases; ++k) {
     const auto K = stiffening_cases_.middleCols(k * r, r);
-    case_start_ = start_cases_.col(k);
     case_end_.noalias() = K * trial_.zeta;
     if (k < 6) {  // centrifugal: omega_a omega_b at the end
-      static constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
-      const int a = kPairs[k][0], b = kPairs[k][1];
+      const int a = kSymmetricPairs[k][0], b = kSymmetricPairs[k][1];
       stiffening_by_velocity_.col(3 + a) += (0.5 * h * w1[b]) * case_end_;
       stiffening_by_velocity_.col(3 + b) += (0.5 * h * w1[a]) * case_end_;
       continue;
     }
-    case_end_ += case_start_;  // alpha and a: the same coefficient at both ends
+    case_end_ += start_cases_.col(k);  // alpha and a: the same coefficient at both ends
     if (k < 9) {
       stiffening_by_velocity_.col(3 + (k - 6)) += 0.5 * case_end_;  // h/2 * (1/h)
     } else {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
+#include "corotate/modal/inertial_load_cases.hpp"           // kSymmetricPairs
 
 namespace corotate {
 
@@ -60,7 +61,6 @@ FloatingFrameInertia::FloatingFrameInertia(const Nodes& X, const Eigen::SparseMa
     for (Index k = 0; k < r_; ++k)
       moment_columns_.block<9, 1>(9 * q, k) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(Q(k + 1, q).data());
   }
-  static constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
   for (auto& m : modal_axial_) m.resize(r_, r_);
   for (auto& m : modal_symmetric_) m.resize(r_, r_);
   modal_trace_.resize(r_, r_);
@@ -71,34 +71,31 @@ FloatingFrameInertia::FloatingFrameInertia(const Nodes& X, const Eigen::SparseMa
       for (int a = 0; a < 3; ++a) modal_axial_[a](k, l) = ax[a];
       modal_trace_(k, l) = Qkl.trace();
       for (int p = 0; p < 6; ++p) {
-        const int a = kPairs[p][0], b = kPairs[p][1];
+        const int a = kSymmetricPairs[p][0], b = kSymmetricPairs[p][1];
         modal_symmetric_[p](k, l) = 0.5 * (Qkl(a, b) + Qkl(b, a));
       }
     }
 }
 
-void FloatingFrameInertia::moments_of(const Vec& zeta, std::vector<Mat3>& u_moments, Mat3& uu) const {
+void FloatingFrameInertia::moments_of(const Vec& zeta, Mat3& uu) const {
   // One matrix-vector product, skipped when zeta is the last one's (a step's balance, its dT/dzeta
   // and its Jacobian ask for the same zeta).
   const Index fields = r_ + 1;
-  if (cached_ && &u_moments == &u_moments_ && cached_zeta_.size() == zeta.size() && cached_zeta_ == zeta) {
+  if (cached_zeta_.size() == zeta.size() && cached_zeta_ == zeta) {
     uu = cached_uu_;
     return;
   }
   stacked_.noalias() = moment_columns_ * zeta;
   stacked_ += moment_base_;
-  u_moments.resize(fields);
+  u_moments_.resize(fields);
   uu = Eigen::Map<const Mat3>(stacked_.data());
-  u_moments[0] = uu;
+  u_moments_[0] = uu;
   for (Index q = 1; q < fields; ++q) {
-    u_moments[q] = Eigen::Map<const Mat3>(stacked_.data() + 9 * q);
-    uu += zeta[q - 1] * u_moments[q];
+    u_moments_[q] = Eigen::Map<const Mat3>(stacked_.data() + 9 * q);
+    uu += zeta[q - 1] * u_moments_[q];
   }
-  if (&u_moments == &u_moments_) {
-    cached_zeta_ = zeta;
-    cached_uu_ = uu;
-    cached_ = true;
-  }
+  cached_zeta_ = zeta;
+  cached_uu_ = uu;
 }
 
 Vec3 FloatingFrameInertia::first_moment(const Vec& zeta) const {
@@ -109,7 +106,7 @@ Vec3 FloatingFrameInertia::first_moment(const Vec& zeta) const {
 
 Mat3 FloatingFrameInertia::inertia(const Vec& zeta) const {
   Mat3 uu;
-  moments_of(zeta, u_moments_, uu);
+  moments_of(zeta, uu);
   return cross_inertia(uu);
 }
 
@@ -118,7 +115,7 @@ void FloatingFrameInertia::mass_matrix(const Vec& zeta, Matrix& M) const {
   const Index size = 6 + r_;
   M.resize(size, size);
   Mat3 uu;
-  moments_of(zeta, u_moments_, uu);
+  moments_of(zeta, uu);
   const Vec3 c = first_moment(zeta);
   M.setZero();
   M.block<3, 3>(0, 0) = mass_ * Mat3::Identity();
@@ -166,7 +163,7 @@ void FloatingFrameInertia::energy_gradient(const Vec3& v, const Vec3& omega, Vec
 void FloatingFrameInertia::kinetic_energy_gradient(const Vec& zeta, const Vec& w, Vec& gradient) const {
   check_sizes(zeta, w);
   Mat3 uu, rate_uu;
-  moments_of(zeta, u_moments_, uu);
+  moments_of(zeta, uu);
   moment_rates(zeta, w.tail(r_), rate_uu);
   gradient.resize(r_);
   energy_gradient(w.segment<3>(0), w.segment<3>(3), gradient);
@@ -178,7 +175,7 @@ void FloatingFrameInertia::velocity_derivatives(const Vec& zeta, const Vec& w, M
   const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);
   const double omega2 = omega.squaredNorm();
   Mat3 uu, rate_uu;
-  moments_of(zeta, u_moments_, uu);
+  moments_of(zeta, uu);
   moment_rates(zeta, w.tail(r_), rate_uu);
   dmomentum_dzeta.resize(6 + r_, r_);
   dgradient_dw.resize(r_, 6 + r_);
@@ -220,7 +217,7 @@ void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec&
   const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);
   const auto eta = w.tail(r_);
   Mat3 uu, rate_uu;
-  moments_of(zeta, u_moments_, uu);
+  moments_of(zeta, uu);
   moment_rates(zeta, eta, rate_uu);
   const Vec3 c = first_moment(zeta);
   Vec3 c_rate = Vec3::Zero(), B_eta = Vec3::Zero(), B_rate_eta = Vec3::Zero();

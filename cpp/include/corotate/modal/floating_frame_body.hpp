@@ -131,6 +131,9 @@ class FloatingFrameBody {
   double evaluate_trial(const FloatingFrameState& state, double h, double start_scale);
   // The Jacobian's leading part at trial_ (M_, pi_, end_ from its balance), factored into lu_.
   void factor_jacobian(const FloatingFrameState& state, double h);
+  // The twelve load cases' coefficients at s for the step's accelerations (gravity in s's frame).
+  std::array<double, kInertialLoadCases> load_coefficients(const FloatingFrameState& s, const Vec3& alpha,
+                                                           const Vec3& acceleration) const;
   // out = K_geo zeta at s for the step's accelerations; returns the load cases' coefficients.
   std::array<double, kInertialLoadCases> stiffening_force(const FloatingFrameState& s, const Vec3& alpha,
                                                           const Vec3& acceleration, Vec& out);
@@ -153,7 +156,7 @@ class FloatingFrameBody {
   std::array<double, kInertialLoadCases> end_coefficients_{};
   Vec stiffening_weights_, stiffening_start_, stiffening_end_;
   Eigen::MatrixXd stiffening_by_velocity_;
-  Vec case_start_, case_end_;  // K_c zeta at the step's two ends, one load case c
+  Vec case_end_;                 // K_c zeta_{n+1}, one load case c
   Eigen::MatrixXd start_cases_;  // r x 12: K_c zeta_n, the step's start, per load case
   Eigen::MatrixXd free_velocities_, projection_, projected_jacobian_, reduced_jacobian_;
   Vec reduced_residual_, reduced_correction_;

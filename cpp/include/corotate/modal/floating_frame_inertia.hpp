@@ -68,10 +68,8 @@ class FloatingFrameInertia {
   Mat3 inertia(const Vec& zeta) const;
 
  private:
-  // Q_pq for the combination u = sum_p a_p F_p on the left and F_q on the right.
-  Mat3 left_moment(const Vec& a, Index q) const;
-  // The moments for u (a = (1, zeta)) against every field, and Q_uu.
-  void moments_of(const Vec& zeta, std::vector<Mat3>& u_moments, Mat3& uu) const;
+  // The moments for u (a = (1, zeta)) against every field into u_moments_, and Q_uu.
+  void moments_of(const Vec& zeta, Mat3& uu) const;
   const Mat3& Q(Index p, Index q) const { return moments_[p * (r_ + 1) + q]; }
   void check_sizes(const Vec& zeta, const Vec& w) const;
   // u_moments_rate_ (and Q_{u'u}) along eta, after moments_of.
@@ -98,9 +96,8 @@ class FloatingFrameInertia {
   // Work space of the const members (a step allocates nothing after the first).
   mutable std::vector<Mat3> u_moments_, u_moments_rate_;
   mutable Vec gradient_, stacked_;
-  mutable Vec cached_zeta_;  // moments_of's last zeta: u_moments_ and cached_uu_ belong to it
+  mutable Vec cached_zeta_;  // moments_of's last zeta (empty: none): u_moments_, cached_uu_ are its
   mutable Mat3 cached_uu_ = Mat3::Zero();
-  mutable bool cached_ = false;
   mutable Matrix table_;  // velocity_derivatives' omega-weighted combination of the tables
 };
 

@@ -28,6 +28,10 @@ namespace corotate {
 
 constexpr int kInertialLoadCases = 12;
 
+// The axis pairs (a, b) of the centrifugal cases 0-5, coefficient omega_a omega_b; also the
+// order of a symmetric 3 x 3 tensor's six entries (xx, yy, zz, xy, xz, yz).
+constexpr int kSymmetricPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+
 inline std::array<double, kInertialLoadCases> inertial_load_coefficients(const Vec3& omega, const Vec3& alpha,
                                                                          const Vec3& acceleration_minus_gravity) {
   return {omega[0] * omega[0],
