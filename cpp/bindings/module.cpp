@@ -24,6 +24,7 @@ using namespace corotate::bindings;
 void bind_mass_spring(py::module_& m);  // mass_spring_bindings.cpp
 void bind_hyperelastic(py::module_& m);  // hyperelastic_bindings.cpp
 void bind_simulation(py::module_& m);  // simulation_bindings.cpp
+void bind_contact(py::module_& m);     // contact_bindings.cpp
 void bind_feedback(py::module_& m);    // feedback_bindings.cpp
 void bind_modal(py::module_& m);       // modal_bindings.cpp
 void bind_floating_frame(py::module_& m);  // floating_frame_bindings.cpp
@@ -245,6 +246,7 @@ PYBIND11_MODULE(_core, m) {
       "positions, needed by the two_level preconditioner. Returns (x, stats).");
 
   bind_simulation(m);  // simulation_bindings.cpp
+  bind_contact(m);  // contact_bindings.cpp: after Simulation, which it extends
   bind_feedback(m);  // feedback_bindings.cpp
   bind_modal(m);  // modal_bindings.cpp
   bind_floating_frame(m);  // floating_frame_bindings.cpp

@@ -40,6 +40,9 @@ Simulation::Simulation(std::unique_ptr<ForceModel> model, const IntegratorSettin
   v_next_.setZero(3, n);
   fixed_ = FixedDofs(model_->pattern(), std::vector<char>(3 * n, 0));
   attachments_ = Attachments(n);
+  std::vector<Index> all(n);
+  for (Index i = 0; i < n; ++i) all[i] = i;
+  contacts_.set_nodes(std::move(all));
   lumped_masses_ = model_->lumped_masses();
   rebuild_gravity_forces();
 }
@@ -65,6 +68,7 @@ void Simulation::check_health(StepStats& st) {
     const bool new_load = energy_check_.load.cols() != load_.cols() || energy_check_.load != load_;
     bool driven = !energy_check_.valid || new_load || energy_check_.attachments_version != attachments_.version();
     for (Index d : fixed_.list()) driven = driven || as_dofs(v_)[d] != 0.0;
+    driven = driven || !contacts_.empty();  // obstacles do work on the body (moved, or through the multipliers)
     const double size = std::abs(st.start_energy) + kinetic + std::abs(potential) + 1e-300;
     // Against the lowest energy since the body was last driven, not the last step's: a slow
     // run-away (a mode growing by 0.5 % per step, bench/README.md) never grows 1 % in one
@@ -103,7 +107,113 @@ void Simulation::check_health(StepStats& st) {
 }
 
 StepInput Simulation::input() {
-  return {*model_, x_, v_, load_, fixed_, attachments_, *solver_, failure_policy_ != FailurePolicy::Ignore};
+  return {*model_, x_, v_, load_, fixed_, attachments_, *solver_, failure_policy_ != FailurePolicy::Ignore,
+          obstacle_links_.empty() ? nullptr : &contacts_};
+}
+
+Index Simulation::obstacle_index(const Obstacle& obstacle) const {
+  for (size_t j = 0; j < obstacle_links_.size(); ++j)
+    if (obstacle_links_[j].obstacle.get() == &obstacle) return static_cast<Index>(j);
+  return -1;
+}
+
+namespace {
+void check_friction(double friction) {
+  if (!std::isfinite(friction) || friction < 0) {
+    std::ostringstream msg;
+    msg << "the friction coefficient must be non-negative and finite, not " << friction;
+    throw InvalidInput(msg.str());
+  }
+}
+}  // namespace
+
+void Simulation::add_obstacle(std::shared_ptr<Obstacle> obstacle, double friction) {
+  const Claim claim(*this, "adding an obstacle");
+  if (!obstacle) throw InvalidInput("add_obstacle needs an obstacle");
+  check_friction(friction);
+  if (obstacle_index(*obstacle) >= 0) throw InvalidInput("this " + obstacle->describe() + " was added already");
+  if (is_explicit(integrator_->settings().kind))
+    throw InvalidInput(std::string("contact needs an implicit integrator ('linearized' or 'newton'), not '") +
+                       integrator_->name() + "'");
+  // A body that starts inside would be thrown out by the contact force at the first step:
+  // refuse, naming how deep, so the user moves one or the other.
+  const Pose pose = obstacle->pose();
+  const double size = (x_.rowwise().maxCoeff() - x_.rowwise().minCoeff()).norm();
+  Index inside = 0, deepest = -1;
+  double depth = 0;
+  Vec3 normal;
+  for (Index i : contacts_.nodes()) {
+    const double d = obstacle->local_distance(pose.to_local(x_.col(i)), normal);
+    if (d < -1e-9 * size) {
+      ++inside;
+      if (d < depth) depth = d, deepest = i;
+    }
+  }
+  if (inside > 0) {
+    std::ostringstream msg;
+    msg << inside << " contact nodes start inside the " << obstacle->describe() << " (node " << deepest << " by "
+        << -depth << " m): move the body or the obstacle apart before adding it";
+    throw InvalidInput(msg.str());
+  }
+  if (!contacts_.has_node_properties()) {
+    // Each node's share of the rest stiffness (trace / 3 of its diagonal block): with its mass
+    // it sets the contact stiffness (contact_set.hpp). Once per simulation.
+    BlockSparseMatrix k = model_->pattern();
+    k.set_zero();
+    Request what;
+    what.stiffness = StiffnessKind::Model;
+    Results out;
+    out.stiffness = &k;
+    model_->evaluate(model_->rest_positions(), what, out);
+    Vec node_stiffness(num_nodes());
+    for (Index i = 0; i < num_nodes(); ++i) node_stiffness[i] = std::max(0.0, k.block(k.diagonal_block(i)).trace() / 3);
+    contacts_.set_node_properties(lumped_masses_, node_stiffness);
+  }
+  ObstacleLink link;
+  link.obstacle = std::move(obstacle);
+  link.friction = friction;
+  obstacle_links_.push_back(std::move(link));
+}
+
+void Simulation::remove_obstacle(const Obstacle& obstacle) {
+  const Claim claim(*this, "removing an obstacle");
+  const Index j = obstacle_index(obstacle);
+  if (j < 0) throw InvalidInput("this " + obstacle.describe() + " is not an obstacle of the simulation");
+  obstacle_links_.erase(obstacle_links_.begin() + j);
+  contacts_.reset();  // its contacts' obstacle indices would be stale
+}
+
+void Simulation::set_friction(const Obstacle& obstacle, double friction) {
+  const Claim claim(*this, "setting friction");
+  check_friction(friction);
+  const Index j = obstacle_index(obstacle);
+  if (j < 0) throw InvalidInput("this " + obstacle.describe() + " is not an obstacle of the simulation");
+  obstacle_links_[j].friction = friction;
+}
+
+void Simulation::set_contact_nodes(const std::vector<Index>& nodes) {
+  const Claim claim(*this, "setting contact nodes");
+  std::vector<char> seen(num_nodes(), 0);
+  for (Index i : nodes) {
+    if (i < 0 || i >= num_nodes()) {
+      std::ostringstream msg;
+      msg << "contact node index " << i << " is out of range [0, " << num_nodes() << ")";
+      throw InvalidInput(msg.str());
+    }
+    if (seen[i]) throw InvalidInput("contact node " + std::to_string(i) + " is listed twice");
+    seen[i] = 1;
+  }
+  contacts_.reset();
+  contacts_.set_nodes(nodes);
+}
+
+void Simulation::set_contact_settings(const ContactSettings& settings) {
+  const Claim claim(*this, "changing the contact settings");
+  contacts_.set_settings(settings);
+}
+
+void Simulation::detect_contacts(double dt) {
+  contacts_.detect(obstacle_links_, obstacle_poses_, x_, v_, gravity_, dt);
 }
 
 void Simulation::rebuild_gravity_forces() {
@@ -171,6 +281,9 @@ std::unique_ptr<Integrator> Simulation::make_attached_integrator(const Integrato
 
 void Simulation::set_settings(const IntegratorSettings& settings) {
   const Claim claim(*this, "changing the settings");
+  if (is_explicit(settings.kind) && !obstacle_links_.empty())
+    throw InvalidInput(std::string("contact needs an implicit integrator ('linearized' or 'newton'), not '") +
+                       integrator_name(settings.kind) + "': remove the obstacles first");
   integrator_ = make_attached_integrator(settings);
   solver_->reset();
   rebuild_gravity_forces();
@@ -208,6 +321,8 @@ void Simulation::reset() {
   energy_check_ = {};
   energy_check_backup_ = {};
   energy_check_took_load_ = false;
+  contacts_.reset();
+  for (ObstacleLink& link : obstacle_links_) link.seen = false;
 }
 
 void Simulation::record_estimates() {
@@ -237,6 +352,13 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
   model_->save_caches();
   energy_check_backup_ = static_cast<const EnergyBaseline&>(energy_check_);  // its scalars
   energy_check_took_load_ = false;
+  const bool contact = !obstacle_links_.empty();
+  if (contact) {  // (copies of a few vectors: what a failed call restores)
+    obstacle_links_backup_ = obstacle_links_;
+    contacts_backup_ = contacts_;
+    obstacle_poses_.resize(obstacle_links_.size());
+    for (size_t j = 0; j < obstacle_links_.size(); ++j) obstacle_poses_[j] = obstacle_links_[j].obstacle->pose();
+  }
   if (energy_check_.valid && (energy_check_.x_end != x_ || energy_check_.v_end != v_))
     energy_check_.valid = false;  // positions or velocities were written since the last call
   try {
@@ -244,6 +366,7 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
     const StepInput in = input();
     integrator_->begin(in);
     for (int s = 0; s < n; ++s) {
+      if (contact) detect_contacts(integrator_->settings().time_step);
       StepStats st = integrator_->step(in, x_next_, v_next_);
       check_health(st);  // of the start state and the solve (may throw under Raise)
       if (Index i = first_non_finite_node(x_next_); i >= 0 || !v_next_.allFinite()) {
@@ -264,6 +387,13 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
       a_ = (v_next_ - v_) / st.dt;
       v_ = v_next_;
       time_ += st.dt;
+      if (contact) {
+        contacts_.commit(x_);
+        for (size_t j = 0; j < obstacle_links_.size(); ++j) {
+          obstacle_links_[j].last_pose = obstacle_poses_[j];  // the obstacle's motion is behind us
+          obstacle_links_[j].seen = true;
+        }
+      }
       ++stats_.steps;
       stats_.substeps += st.substeps;
       stats_.total_iterations += st.solve.iterations;
@@ -293,6 +423,10 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
     model_->restore_caches();
     static_cast<EnergyBaseline&>(energy_check_) = energy_check_backup_;
     if (energy_check_took_load_) energy_check_.valid = false;
+    if (contact) {
+      obstacle_links_ = obstacle_links_backup_;
+      contacts_ = contacts_backup_;
+    }
     throw;
   }
 }
@@ -300,6 +434,10 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
 StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed,
                                       const std::function<void(int done)>& after_each_load_step) {
   const Claim claim(*this, "solve_static");
+  if (!obstacle_links_.empty())
+    throw InvalidInput(
+        "solve_static does not include contact: step the simulation to rest instead (mass damping speeds it up), or "
+        "remove the obstacles");
   if (!attachments_.empty())
     throw InvalidInput(
         "solve_static does not include attachment springs: detach the nodes first (or fix them and prescribe their "

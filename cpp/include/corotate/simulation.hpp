@@ -115,6 +115,23 @@ class Simulation {
   void detach_all();
   const Attachments& attachments() const { return attachments_; }
 
+  // Contact with rigid obstacles (contact/contact_set.hpp), implicit integrators only.
+  // add_obstacle: the body touches `obstacle` with Coulomb friction coefficient `friction`;
+  // one obstacle may be shared by several simulations (a tool touching two bodies) and moved
+  // between frames (Obstacle::set_pose): over the next step it moves from where this body
+  // last saw it to where it is. Throws InvalidInput (nothing changed) for a bad friction, an
+  // obstacle added twice, an explicit integrator, or contact nodes that start inside the
+  // obstacle (deeper than 1e-9 of the body's size).
+  void add_obstacle(std::shared_ptr<Obstacle> obstacle, double friction);
+  void remove_obstacle(const Obstacle& obstacle);  // InvalidInput when it is not there
+  void set_friction(const Obstacle& obstacle, double friction);
+  const std::vector<ObstacleLink>& obstacles() const { return obstacle_links_; }
+  // The nodes that can touch (default: all; the Python layer sets the surface's). Validated.
+  void set_contact_nodes(const std::vector<Index>& nodes);
+  void set_contact_settings(const ContactSettings& settings);
+  // The contacts of the last step and the force each exerted on the body at its end.
+  const ContactSet& contacts() const { return contacts_; }
+
   // A new integrator (validated first; on InvalidInput nothing changes).
   void set_settings(const IntegratorSettings& settings);
   const IntegratorSettings& settings() const { return integrator_->settings(); }
@@ -165,6 +182,8 @@ class Simulation {
   void record_estimates();
   // The loud-failure checks of one step (see above); marks st, counts, throws under Raise.
   void check_health(StepStats& st);
+  Index obstacle_index(const Obstacle& obstacle) const;  // -1 when not added
+  void detect_contacts(double dt);
 
   std::unique_ptr<ForceModel> model_;
   std::unique_ptr<Integrator> integrator_;
@@ -174,6 +193,9 @@ class Simulation {
   std::vector<Index> fixed_nodes_;
   FixedDofs fixed_;
   Attachments attachments_;
+  std::vector<ObstacleLink> obstacle_links_, obstacle_links_backup_;
+  std::vector<Pose> obstacle_poses_;  // each obstacle's pose, read once per step() call
+  ContactSet contacts_, contacts_backup_;
   double time_ = 0;
   SimulationStats stats_;
   FailurePolicy failure_policy_ = FailurePolicy::Warn;

@@ -55,6 +55,10 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     in.attachments.add_forces(y_, force_);
     if (single) in.attachments.add_stiffness(what.stiffness_scale, *single);
     else in.attachments.add_stiffness(what.stiffness_scale, system_);
+    // Contacts likewise (undamped by beta), linearised where each node's free flight ends:
+    // a node at rest above the floor touches it only under the step's gravity. The
+    // friction's Hessian times dt^2 is its damping dt dF/dv on the new velocity.
+    if (in.has_contacts()) in.contacts->add_linearized(y_, force_, dt * dt, single ? nullptr : &system_, single);
     if (in.diagnose) {
       stats.start_energy = out.energy;
       stats.start_inverted = out.inverted;

@@ -48,6 +48,7 @@ class NewtonImplicitEuler final : public ImplicitIntegrator {
 double NewtonImplicitEuler::incremental_potential(const StepInput& in, const Nodes& y) {
   const double dt = settings().time_step;
   double phi = in.model.energy(y) + in.attachments.energy(y) - as_dofs(in.load).dot(as_dofs(y));
+  if (in.has_contacts()) phi += in.contacts->energy(y);
   rhs_ = as_dofs(y) - as_dofs(target_);
   mass_.multiply(rhs_, work_);
   phi += 0.5 / (dt * dt) * rhs_.dot(work_);
@@ -73,6 +74,10 @@ void NewtonImplicitEuler::gradient_and_hessian(const StepInput& in, const Nodes&
   in.model.evaluate(y, what, out);
   in.attachments.add_forces(y, force_);
   if (kind != StiffnessKind::None) in.attachments.add_stiffness(1.0, system_);
+  if (in.has_contacts()) {
+    in.contacts->add_forces(y, force_);
+    if (kind != StiffnessKind::None) in.contacts->add_stiffness(y, 1.0, system_);
+  }
   rhs_ = as_dofs(y) - as_dofs(target_);
   mass_.multiply(rhs_, work_);
   as_dofs(force_) -= work_ / (dt * dt);
@@ -101,6 +106,7 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
   mass_.multiply(as_dofs(in.v), work_);
   force_ = in.load;
   in.attachments.add_forces(in.x, force_);
+  if (in.has_contacts()) in.contacts->add_forces(in.x, force_);
   Vec reference = as_dofs(force_);
   in.fixed.project(reference);
   in.fixed.project(work_);

@@ -98,6 +98,12 @@ void SinglePrecisionSymmetric::add_to_diagonal(Index i, double value) {
   for (int r = 0; r < 3; ++r) d[4 * r] = static_cast<float>(d[4 * r] + value / unscale_);
 }
 
+void SinglePrecisionSymmetric::add_to_diagonal_block(Index i, const Mat3& value) {
+  float* d = values_.data() + 9 * diagonal_[i];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) d[3 * r + c] = static_cast<float>(d[3 * r + c] + value(r, c) / unscale_);
+}
+
 Mat3 SinglePrecisionSymmetric::diagonal_block(Index i) const {
   const float* d = values_.data() + 9 * diagonal_[i];
   Mat3 block;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "corotate/contact/contact_set.hpp"
 #include "corotate/fem/attachments.hpp"
 #include "corotate/fem/fixed_dofs.hpp"
 #include "corotate/models/force_model.hpp"
@@ -63,6 +64,10 @@ struct StepInput {
   const Attachments& attachments;
   LinearSolver& solver;
   bool diagnose = true;  // compute what the loud-failure checks need (start energy, inversions)
+  // The step's contacts (implicit integrators; null or empty: none), detected at x: their
+  // potential joins the body's like the attachment springs' (contact/contact_set.hpp).
+  const ContactSet* contacts = nullptr;
+  bool has_contacts() const { return contacts && !contacts->empty(); }
 };
 
 struct StepStats {

@@ -65,6 +65,8 @@ class SinglePrecisionSymmetric {
   void start_assembly(const BlockSparseMatrix& M, double s, std::uint64_t version);
   // Adds value * I to node i's diagonal block.
   void add_to_diagonal(Index i, double value);
+  // Adds a symmetric 3 x 3 block to node i's diagonal block.
+  void add_to_diagonal_block(Index i, const Mat3& value);
   // Node i's diagonal block in true units (double).
   Mat3 diagonal_block(Index i) const;
   // Its nine stored values (divided by unscale(), row-major).

@@ -1,0 +1,117 @@
+// pybind11 glue for contact: the obstacles (corotate._core.Plane and the analytic shapes),
+// the contact settings, and Simulation's contact members. Nothing but conversions.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "conversions.hpp"
+#include "corotate/contact/obstacle.hpp"
+#include "corotate/simulation.hpp"
+
+namespace py = pybind11;
+using namespace corotate;
+using namespace corotate::bindings;
+
+void bind_contact(py::module_& m) {
+  py::class_<Obstacle, std::shared_ptr<Obstacle>>(m, "Obstacle")
+      .def_property_readonly("rotation", [](const Obstacle& o) { return Mat3(o.pose().rotation); })
+      .def_property_readonly("translation", [](const Obstacle& o) { return Vec3(o.pose().translation); })
+      .def(
+          "set_pose",
+          [](Obstacle& o, const Mat3& rotation, const Vec3& translation) {
+            Pose p;
+            p.rotation = rotation;
+            p.translation = translation;
+            o.set_pose(p);
+          },
+          py::arg("rotation"), py::arg("translation"), "Place the shape: x_world = rotation x_local + translation.")
+      .def_property_readonly("version", &Obstacle::version)
+      .def(
+          "distance",
+          [](const Obstacle& o, const PointsIn& points) {
+            const Nodes p = nodes_from(points, "points");
+            const Pose pose = o.pose();
+            Eigen::VectorXd d(p.cols());
+            Eigen::MatrixXd normals(p.cols(), 3);
+            Vec3 n;
+            for (Index i = 0; i < p.cols(); ++i) {
+              d[i] = o.local_distance(pose.to_local(p.col(i)), n);
+              normals.row(i) = (pose.rotation * n).transpose();
+            }
+            return py::make_tuple(d, normals);
+          },
+          py::arg("points"), "(signed distances (m,), outward unit normals (m, 3)) of world points (m, 3).")
+      .def("__repr__", &Obstacle::describe);
+  py::class_<HalfSpace, Obstacle, std::shared_ptr<HalfSpace>>(m, "HalfSpace").def(py::init<>());
+  py::class_<Sphere, Obstacle, std::shared_ptr<Sphere>>(m, "Sphere")
+      .def(py::init<double>(), py::arg("radius"))
+      .def_property_readonly("radius", &Sphere::radius);
+  py::class_<Box, Obstacle, std::shared_ptr<Box>>(m, "Box").def(py::init<const Vec3&>(), py::arg("half_extents"));
+  py::class_<Capsule, Obstacle, std::shared_ptr<Capsule>>(m, "Capsule")
+      .def(py::init<double, double>(), py::arg("radius"), py::arg("half_length"));
+  py::class_<Cylinder, Obstacle, std::shared_ptr<Cylinder>>(m, "Cylinder")
+      .def(py::init<double, double>(), py::arg("radius"), py::arg("half_length"));
+
+  py::class_<ContactSettings>(m, "ContactSettings")
+      .def(py::init([](double stiffness_scale, double friction_velocity) {
+             ContactSettings s;
+             s.stiffness_scale = stiffness_scale;
+             s.friction_velocity = friction_velocity;
+             s.validate();
+             return s;
+           }),
+           py::arg("stiffness_scale") = ContactSettings{}.stiffness_scale,
+           py::arg("friction_velocity") = ContactSettings{}.friction_velocity)
+      .def_readonly("stiffness_scale", &ContactSettings::stiffness_scale)
+      .def_readonly("friction_velocity", &ContactSettings::friction_velocity);
+
+  auto sim = py::reinterpret_borrow<py::class_<Simulation>>(m.attr("Simulation"));
+  sim.def("add_obstacle", &Simulation::add_obstacle, py::arg("obstacle"), py::arg("friction") = 0.0)
+      .def("remove_obstacle", &Simulation::remove_obstacle, py::arg("obstacle"))
+      .def("set_friction", &Simulation::set_friction, py::arg("obstacle"), py::arg("friction"))
+      .def_property_readonly("obstacles",
+                             [](const Simulation& s) {
+                               const Simulation::Claim claim(s, "reading the obstacles");
+                               py::list out;
+                               for (const ObstacleLink& link : s.obstacles())
+                                 out.append(py::make_tuple(link.obstacle, link.friction));
+                               return out;
+                             })
+      .def_property(
+          "contact_nodes", [](const Simulation& s) { return s.contacts().nodes(); }, &Simulation::set_contact_nodes)
+      .def_property(
+          "contact_settings", [](const Simulation& s) { return s.contacts().settings(); },
+          &Simulation::set_contact_settings)
+      .def_property_readonly(
+          "contacts",
+          [](const Simulation& s) {
+            const Simulation::Claim claim(s, "reading the contacts");
+            const ContactSet& set = s.contacts();
+            const auto& cs = set.contacts();
+            const Index m = static_cast<Index>(cs.size());
+            Eigen::Matrix<Index, Eigen::Dynamic, 1> nodes(m);
+            Eigen::VectorXi obstacles(m);
+            Eigen::MatrixXd normals(m, 3), points(m, 3), forces(m, 3);
+            Eigen::VectorXd multipliers(m);
+            const bool committed = set.forces().cols() == m;
+            for (Index k = 0; k < m; ++k) {
+              nodes[k] = cs[k].node;
+              obstacles[k] = cs[k].obstacle;
+              normals.row(k) = cs[k].normal.transpose();
+              points.row(k) = cs[k].point.transpose();
+              forces.row(k) = committed ? Vec3(set.forces().col(k)) : Vec3(Vec3::Zero());
+              multipliers[k] = cs[k].multiplier;
+            }
+            py::dict d;
+            d["nodes"] = nodes;
+            d["obstacles"] = obstacles;
+            d["normals"] = normals;
+            d["points"] = points;
+            d["forces"] = forces;
+            d["multipliers"] = multipliers;
+            return d;
+          },
+          "The last step's contacts: nodes, obstacle indices, the planes (normals, points), the force each exerted "
+          "on the body at the step's end (m, 3) and the normal multipliers carried to the next step.");
+}

@@ -1,0 +1,122 @@
+// Contact of one body with rigid obstacles, inside the implicit step.
+//
+// Detection (once per step, detect()): each contact node's path over the step, from x to the
+// free-flight prediction x + dt v + dt^2 g, is marched against every obstacle in the
+// obstacle's moving frame (from the pose this body last saw it at to its current one). The
+// march advances by the signed distance, which no surface can be nearer than, so a node that
+// would cross a thin obstacle within the step is caught where it first touches: no
+// tunnelling at any speed. A touching node gets the obstacle's tangent plane there (point p,
+// outward normal n, both at the obstacle's current pose): its gap is g(y) = n . (y - p).
+//
+// The contact potential of node i against its plane, with stiffness k and multiplier lambda,
+//     E_n = (1 / 2k) max(0, lambda - k g)^2,  force max(0, lambda - k g) n,  Hessian k n n^T
+// (an augmented Lagrangian: after each step lambda <- max(0, lambda - k g(x_new)), the force
+// the contact carried, so a resting contact's gap goes to zero over steps while k stays
+// moderate). k = stiffness_scale * (m_i / dt^2 + k_i), with m_i the node's lumped mass and
+// k_i its share of the body's rest stiffness (trace / 3 of the diagonal block): the contact
+// is stiffness_scale times stiffer than the node itself is in the step's system.
+//
+// Coulomb friction, lagged (IPC's smoothed friction, Li et al. 2020): with the normal force N
+// from the step's start and the slip u = P_t (y - x - dt v_obstacle), P_t = I - n n^T,
+//     E_t = mu N F0(|u|),  force -mu N f1(|u|) u / |u|,
+// f1(s) = 2 s / eps - s^2 / eps^2 below eps = friction_velocity * dt and 1 above: a block
+// below the friction cone creeps at less than friction_velocity; above, it slides with the
+// force mu N exactly. Both potentials are C1 with positive semi-definite Hessians, so the
+// Newton integrator minimises them with the body's incremental potential and the linearised
+// one evaluates them at y = x + dt v like the body's forces.
+//
+// Only diagonal blocks of the system change: contact rebuilds no pattern, factorization or
+// preconditioner hierarchy.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "corotate/contact/obstacle.hpp"
+#include "corotate/sparse/block_sparse_matrix.hpp"
+
+namespace corotate {
+
+class SinglePrecisionSymmetric;
+
+struct ContactSettings {
+  double stiffness_scale = 100;     // contact stiffness / the node's own stiffness in the step
+  double friction_velocity = 1e-3;  // [m/s] slip speed below which friction sticks (smoothed)
+  void validate() const;            // throws InvalidInput naming the parameter
+};
+
+// An obstacle as one body sees it: the obstacle, its friction coefficient against this body
+// and the pose at which this body last stepped with it (where its motion over the next step
+// starts).
+struct ObstacleLink {
+  std::shared_ptr<Obstacle> obstacle;
+  double friction = 0;
+  Pose last_pose;
+  bool seen = false;  // last_pose valid (no motion is assumed over the first step)
+};
+
+// One active contact of the step.
+struct Contact {
+  Index node = 0;
+  int obstacle = 0;           // index into the links
+  Vec3 normal, point;         // the obstacle's tangent plane at its current pose
+  Vec3 slip_origin;           // x + dt v_obstacle: where a node that sticks ends the step
+  Vec3 predicted;             // x + dt v + dt^2 g: the free-flight end of the step
+  double stiffness = 0;       // k [N/m]
+  double multiplier = 0;      // lambda [N]
+  double friction_force = 0;  // mu N, lagged from the step's start [N]
+};
+
+class ContactSet {
+ public:
+  // Per node of the body: its lumped mass and rest stiffness (k_i above).
+  void set_node_properties(Vec masses, Vec node_stiffness);
+  bool has_node_properties() const { return masses_.size() > 0; }
+
+  bool empty() const { return contacts_.empty(); }
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  const std::vector<Index>& nodes() const { return nodes_; }
+  // The nodes that can touch (the body's surface; validated by the caller).
+  void set_nodes(std::vector<Index> nodes);
+  void set_settings(const ContactSettings& settings);
+  const ContactSettings& settings() const { return settings_; }
+
+  // The step's contacts from the state at its start (see above); poses: each link's current
+  // pose, read once.
+  void detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x,
+              const Nodes& v, const Vec3& gravity, double dt);
+
+  // The potentials at positions y (3 x n), as Attachments has them.
+  double energy(const Nodes& y) const;
+  void add_forces(const Nodes& y, Nodes& f) const;
+  void add_stiffness(const Nodes& y, double scale, BlockSparseMatrix& A) const;
+  void add_stiffness(const Nodes& y, double scale, SinglePrecisionSymmetric& A) const;
+  // For the linearised step: each contact's potential linearised about the node's free-flight
+  // prediction p (where it touches, which y = x + dt v may not), evaluated at y:
+  // f += f(p) + H(p) (p - y), A += scale H(p).
+  void add_linearized(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix* A,
+                      SinglePrecisionSymmetric* single) const;
+
+  // After a step ending at x_new: the multipliers for the next step, and the force each
+  // contact exerts on the body there (normal and friction), per contact.
+  void commit(const Nodes& x_new);
+  const Nodes& forces() const { return forces_; }  // 3 x contacts(), at the last commit
+
+  // Multipliers by (node, obstacle) carried from step to step; cleared by reset().
+  void reset();
+
+ private:
+  // The node's contact force and its Hessian at y (Hessian optional).
+  Vec3 force_of(const Contact& c, const Vec3& y, Mat3* hessian) const;
+  double energy_of(const Contact& c, const Vec3& y) const;
+
+  std::vector<Index> nodes_;
+  Vec masses_, node_stiffness_;
+  ContactSettings settings_;
+  double dt_ = 0;
+  std::vector<Contact> contacts_, previous_;  // this step's; the last step's (detect())
+  std::vector<int> first_contact_;             // per node: its first contact in previous_, or -1
+  Nodes forces_;
+};
+
+}  // namespace corotate
