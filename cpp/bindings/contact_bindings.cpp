@@ -93,7 +93,7 @@ void bind_contact(py::module_& m) {
             Eigen::Matrix<Index, Eigen::Dynamic, 1> nodes(m);
             Eigen::VectorXi obstacles(m);
             Eigen::MatrixXd normals(m, 3), points(m, 3), forces(m, 3);
-            Eigen::VectorXd multipliers(m);
+            Eigen::VectorXd multipliers(m), friction_limits(m);
             const bool committed = set.forces().cols() == m;
             for (Index k = 0; k < m; ++k) {
               nodes[k] = cs[k].node;
@@ -102,6 +102,7 @@ void bind_contact(py::module_& m) {
               points.row(k) = cs[k].point.transpose();
               forces.row(k) = committed ? Vec3(set.forces().col(k)) : Vec3(Vec3::Zero());
               multipliers[k] = cs[k].multiplier;
+              friction_limits[k] = cs[k].friction_force;
             }
             py::dict d;
             d["nodes"] = nodes;
@@ -110,8 +111,31 @@ void bind_contact(py::module_& m) {
             d["points"] = points;
             d["forces"] = forces;
             d["multipliers"] = multipliers;
+            d["friction_limits"] = friction_limits;
             return d;
           },
           "The last step's contacts: nodes, obstacle indices, the planes (normals, points), the force each exerted "
-          "on the body at the step's end (m, 3) and the normal multipliers carried to the next step.");
+          "on the body at the step's end (m, 3), the normal multipliers carried to the next step and the friction "
+          "limits mu N of the step (N: the multiplier carried into it).")
+      .def(
+          "contact_potential",
+          [](const Simulation& s, const PointsIn& positions) {
+            const Simulation::Claim claim(s, "evaluating the contact potential");
+            const Nodes y = nodes_from(positions, "positions");
+            if (y.cols() != s.num_nodes()) throw InvalidInput("positions must have one row per node");
+            const auto& cs = s.contacts().contacts();
+            double energy = 0;
+            Eigen::MatrixXd forces(cs.size(), 3), hessians(3 * cs.size(), 3);
+            for (size_t k = 0; k < cs.size(); ++k) {
+              Mat3 h;
+              const Vec3 yk = y.col(cs[k].node);
+              energy += s.contacts().energy_of(cs[k], yk);
+              forces.row(k) = s.contacts().force_of(cs[k], yk, &h);
+              hessians.block(3 * k, 0, 3, 3) = h;
+            }
+            return py::make_tuple(energy, forces, hessians);
+          },
+          py::arg("positions"),
+          "The last step's contact potentials at positions (n, 3): (energy, force per contact (m, 3), Hessian "
+          "per contact (3m, 3)), for checking them against finite differences.");
 }

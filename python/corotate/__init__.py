@@ -24,6 +24,7 @@ from .explicit import ExplicitSimulation
 from .feedback import HapticFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
+from .obstacles import Box, Capsule, Cylinder, Plane, Sphere
 from .mesh import SUPPORTED_CELL_TYPES, Mesh, beam, box, cell_types, read_mesh, rectangle, write_mesh
 from .meshing import tetrahedralize
 from .output import TimeSeriesWriter
@@ -52,6 +53,11 @@ __all__ = [
     "SpringGeometry",
     "ExplicitSimulation",
     "HapticFeedback",
+    "Plane",
+    "Sphere",
+    "Box",
+    "Capsule",
+    "Cylinder",
     "SimulationWarning",
     "EmbeddedSurface",
     "read_surface",

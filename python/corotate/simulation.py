@@ -10,6 +10,7 @@ import corotate._core as _core
 
 from ._numbers import real_number
 from .body import Body
+from .contact import ContactMembers
 from .choices import IMPLICIT_INTEGRATORS, MASS_KINDS, FailurePolicy, ImplicitIntegratorName, MassKind, check_choice
 from .driven_body import DrivenBody
 from .solvers import PCG, Direct
@@ -22,7 +23,7 @@ if TYPE_CHECKING:
 _DEFAULTS = _core.IntegratorSettings()  # the defaults live in C++ (integrators/integrator.hpp)
 
 
-class Simulation(DrivenBody):
+class Simulation(ContactMembers, DrivenBody):
     """Implicit (backward Euler) simulation of one body.
 
     body        Body
@@ -45,8 +46,11 @@ class Simulation(DrivenBody):
     held in C++: no copies. Write into them between steps to move fixed nodes or apply
     loads (e.g. ``sim.external_forces[tip] = (0, 0, -10)``).
 
-    Settable later: dt, solver, gravity, on_failure; body and time are read-only (reset()
-    goes back to the rest state at t = 0).
+    Contact: add_obstacle(cr.Plane(), friction=0.5) and the other shapes of
+    corotate.obstacles (contact.py has the members: contacts, contact_force, ...).
+
+    Settable later: dt, solver, gravity, on_failure, contact_nodes, contact_settings; body
+    and time are read-only (reset() goes back to the rest state at t = 0).
     """
 
     def __init__(
@@ -83,6 +87,8 @@ class Simulation(DrivenBody):
         )
         kind, pcg = solver._args()
         self._sim = _core.Simulation(body._force_model, settings, kind, pcg)
+        self._obstacles = []
+        self._contact_nodes_set = False
         self._rest = body.mesh.points
         self.gravity = gravity
         self._set_failure_policy(on_failure)

@@ -58,7 +58,6 @@ double first_touch(const Obstacle& obstacle, const Vec3& a, const Vec3& b, doubl
 
 void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x,
                         const Nodes& v, const Vec3& gravity, double dt) {
-  dt_ = dt;
   // The multipliers of the last step's contacts, by node, to carry over.
   previous_.swap(contacts_);
   contacts_.clear();
@@ -97,9 +96,15 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
       c.slip_origin = xi + dt * obstacle_velocity;
       c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
       c.multiplier = lambda;
-      c.predicted = xi + dt * v.col(i) + dt * dt * gravity;
-      const double predicted_gap = c.normal.dot(c.predicted - c.point);
-      c.friction_force = links[j].friction * std::max(0.0, lambda - c.stiffness * predicted_gap);
+      // The normal force friction scales with: the one the contact carried over the last
+      // step (none in a contact's first step: a prediction from the penetration the step
+      // would have without contact overestimates an impact's force by the stiffness scale).
+      c.friction_force = links[j].friction * lambda;
+      // The stuck regime's width: friction_velocity * dt, or wider where that would make the
+      // friction stiffer (2 mu N / eps) than the normal contact (k): a sticking node then
+      // creeps by at most about the normal contact's own penetration, and the system keeps
+      // the conditioning of the normal contact.
+      c.slip_width = std::max(settings_.friction_velocity * dt, c.friction_force / c.stiffness);
       contacts_.push_back(c);
     }
   }
@@ -115,39 +120,53 @@ double friction_potential(double s, double eps) { return s < eps ? s * s / eps -
 }  // namespace
 
 double ContactSet::energy_of(const Contact& c, const Vec3& y) const {
+  if (!c.active) return 0;
   const double push = std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(y - c.point));
   double e = push * push / (2 * c.stiffness);
   if (c.friction_force > 0) {
     const Vec3 slip = y - c.slip_origin;
     const Vec3 u = slip - c.normal.dot(slip) * c.normal;
-    e += c.friction_force * friction_potential(u.norm(), settings_.friction_velocity * dt_);
+    e += c.friction_force * friction_potential(u.norm(), c.slip_width);
   }
   return e;
 }
 
-Vec3 ContactSet::force_of(const Contact& c, const Vec3& y, Mat3* hessian) const {
+Vec3 ContactSet::normal_force(const Contact& c, const Vec3& y, Mat3* hessian) {
   const double push = std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(y - c.point));
-  Vec3 f = push * c.normal;
   if (hessian) {
     if (push > 0) *hessian = c.stiffness * c.normal * c.normal.transpose();
     else hessian->setZero();
   }
+  return push * c.normal;
+}
+
+Vec3 ContactSet::friction(const Contact& c, const Vec3& y, Mat3* hessian) {
+  const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
+  const Vec3 u = tangential * (y - c.slip_origin);
+  const double s = u.norm(), eps = c.slip_width, mu_n = c.friction_force;
+  if (s >= eps) {  // sliding: mu N against the slip
+    const Vec3 dir = u / s;
+    if (hessian) *hessian = (mu_n / s) * (tangential - dir * dir.transpose());
+    return -mu_n * dir;
+  }
+  const double slope = mu_n * (2 / eps - s / (eps * eps));  // mu N f1(s) / s
+  if (hessian) {
+    *hessian = slope * tangential;
+    if (s > 0) *hessian -= (mu_n / (eps * eps * s)) * u * u.transpose();
+  }
+  return -slope * u;
+}
+
+Vec3 ContactSet::force_of(const Contact& c, const Vec3& y, Mat3* hessian) const {
+  if (!c.active) {
+    if (hessian) hessian->setZero();
+    return Vec3::Zero();
+  }
+  Vec3 f = normal_force(c, y, hessian);
   if (c.friction_force > 0) {
-    const double eps = settings_.friction_velocity * dt_;
-    const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
-    const Vec3 u = tangential * (y - c.slip_origin);
-    const double s = u.norm();
-    if (s >= eps) {
-      const Vec3 dir = u / s;
-      f -= c.friction_force * dir;
-      if (hessian) *hessian += (c.friction_force / s) * (tangential - dir * dir.transpose());
-    } else {
-      f -= c.friction_force * (2 / eps - s / (eps * eps)) * u;
-      if (hessian) {
-        *hessian += c.friction_force * (2 / eps - s / (eps * eps)) * tangential;
-        if (s > 0) *hessian -= (c.friction_force / (eps * eps * s)) * u * u.transpose();
-      }
-    }
+    Mat3 h;
+    f += friction(c, y, hessian ? &h : nullptr);
+    if (hessian) *hessian += h;
   }
   return f;
 }
@@ -182,11 +201,43 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
                                 SinglePrecisionSymmetric* single) const {
   Mat3 h;
   for (const Contact& c : contacts_) {
-    const Vec3 force = force_of(c, c.predicted, &h);
-    f.col(c.node) += force + h * (c.predicted - y.col(c.node));
+    if (!c.active) continue;
+    const Vec3 yc = y.col(c.node);
+    // The normal force as the linear spring it is while the contact holds, (lambda - k g) n
+    // with g = n . (y - p): its max(0, .) is the active set's business (update_active), so
+    // a contact whose node the prediction puts outside still holds where the answer is inside.
+    f.col(c.node) += (c.multiplier - c.stiffness * c.normal.dot(yc - c.point)) * c.normal;
+    h = c.stiffness * c.normal * c.normal.transpose();
+    if (c.friction_force > 0) {
+      // Friction as the damping of its secant at the slip the node starts the step with:
+      // force -(mu N f1(s) / s) u at the new slip u. One linear solve cannot follow the
+      // smoothed law's kink (its tangent, extrapolated from a sticking slip, asks for many
+      // times mu N and overshoots); the secant never exceeds mu N by more than the slip
+      // grows in the step, and it only ever dissipates.
+      const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
+      const Vec3 u = tangential * (yc - c.slip_origin);
+      const double s = u.norm(), eps = c.slip_width;
+      const double damping = c.friction_force * (s >= eps ? 1 / s : 2 / eps - s / (eps * eps));
+      f.col(c.node) -= damping * u;
+      h += damping * tangential;
+    }
     if (single) single->add_to_diagonal_block(c.node, scale * h);
     else A->block(A->diagonal_block(c.node)) += scale * h;
   }
+}
+
+bool ContactSet::update_active(const Nodes& x_new) {
+  bool changed = false;
+  for (Contact& c : contacts_) {
+    const double gap = c.normal.dot(x_new.col(c.node) - c.point);
+    // Only a contact new in this step (no carried force) is released: one that carried force
+    // into the step rests on the surface, where a solve's round-off flips the sign of its
+    // tiny gap from pass to pass; its multiplier lets go over the next step if it pulls.
+    const bool active = c.active ? c.multiplier > 0 || gap <= 0 : gap < 0;
+    changed = changed || active != c.active;
+    c.active = active;
+  }
+  return changed;
 }
 
 void ContactSet::commit(const Nodes& x_new) {
@@ -195,7 +246,7 @@ void ContactSet::commit(const Nodes& x_new) {
     Contact& c = contacts_[k];
     const Vec3 y = x_new.col(c.node);
     forces_.col(static_cast<Index>(k)) = force_of(c, y, nullptr);
-    c.multiplier = std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(y - c.point));
+    c.multiplier = c.active ? std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(y - c.point)) : 0.0;
   }
 }
 

@@ -17,11 +17,13 @@
 // is stiffness_scale times stiffer than the node itself is in the step's system.
 //
 // Coulomb friction, lagged (IPC's smoothed friction, Li et al. 2020): with the normal force N
-// from the step's start and the slip u = P_t (y - x - dt v_obstacle), P_t = I - n n^T,
+// the contact carried into the step (lambda) and the slip u = P_t (y - x - dt v_obstacle),
+// P_t = I - n n^T,
 //     E_t = mu N F0(|u|),  force -mu N f1(|u|) u / |u|,
-// f1(s) = 2 s / eps - s^2 / eps^2 below eps = friction_velocity * dt and 1 above: a block
-// below the friction cone creeps at less than friction_velocity; above, it slides with the
-// force mu N exactly. Both potentials are C1 with positive semi-definite Hessians, so the
+// f1(s) = 2 s / eps - s^2 / eps^2 below eps and 1 above, eps = max(friction_velocity * dt,
+// mu N / k): a block below the friction cone creeps at less than friction_velocity (or by
+// the normal contact's own compliance per step); above, it slides with the force mu N
+// exactly. Both potentials are C1 with positive semi-definite Hessians, so the
 // Newton integrator minimises them with the body's incremental potential and the linearised
 // one evaluates them at y = x + dt v like the body's forces.
 //
@@ -61,10 +63,11 @@ struct Contact {
   int obstacle = 0;           // index into the links
   Vec3 normal, point;         // the obstacle's tangent plane at its current pose
   Vec3 slip_origin;           // x + dt v_obstacle: where a node that sticks ends the step
-  Vec3 predicted;             // x + dt v + dt^2 g: the free-flight end of the step
   double stiffness = 0;       // k [N/m]
   double multiplier = 0;      // lambda [N]
-  double friction_force = 0;  // mu N, lagged from the step's start [N]
+  double friction_force = 0;  // mu N, N lagged: the multiplier carried into the step [N]
+  double slip_width = 0;      // eps [m] of the smoothed friction
+  bool active = true;         // false: released by the linearised step (update_active)
 };
 
 class ContactSet {
@@ -91,11 +94,17 @@ class ContactSet {
   void add_forces(const Nodes& y, Nodes& f) const;
   void add_stiffness(const Nodes& y, double scale, BlockSparseMatrix& A) const;
   void add_stiffness(const Nodes& y, double scale, SinglePrecisionSymmetric& A) const;
-  // For the linearised step: each contact's potential linearised about the node's free-flight
-  // prediction p (where it touches, which y = x + dt v may not), evaluated at y:
-  // f += f(p) + H(p) (p - y), A += scale H(p).
+  // For the linearised step: each active contact's normal force as the linear spring
+  // (lambda - k g(y)) n, A += scale k n n^T, whatever the sign (the active set, update_active,
+  // releases contacts that pull); friction as the damping of its secant at the slip of y
+  // (see the source for why not its tangent).
   void add_linearized(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix* A,
                       SinglePrecisionSymmetric* single) const;
+
+  // For the linearised step's active set: releases the active contacts new in this step whose
+  // linear normal force at x_new pulls, and takes back released ones whose node ended inside (an inexact
+  // solve can leave a node just above its plane); returns whether any changed.
+  bool update_active(const Nodes& x_new);
 
   // After a step ending at x_new: the multipliers for the next step, and the force each
   // contact exerts on the body there (normal and friction), per contact.
@@ -105,15 +114,18 @@ class ContactSet {
   // Multipliers by (node, obstacle) carried from step to step; cleared by reset().
   void reset();
 
- private:
-  // The node's contact force and its Hessian at y (Hessian optional).
-  Vec3 force_of(const Contact& c, const Vec3& y, Mat3* hessian) const;
+  // One contact's potential, force and Hessian (optional) at its node's position y.
   double energy_of(const Contact& c, const Vec3& y) const;
+  Vec3 force_of(const Contact& c, const Vec3& y, Mat3* hessian) const;
+
+ private:
+  // The two parts of force_of (the Hessian, when asked, is set, not added).
+  static Vec3 normal_force(const Contact& c, const Vec3& y, Mat3* hessian);
+  static Vec3 friction(const Contact& c, const Vec3& y, Mat3* hessian);
 
   std::vector<Index> nodes_;
   Vec masses_, node_stiffness_;
   ContactSettings settings_;
-  double dt_ = 0;
   std::vector<Contact> contacts_, previous_;  // this step's; the last step's (detect())
   std::vector<int> first_contact_;             // per node: its first contact in previous_, or -1
   Nodes forces_;

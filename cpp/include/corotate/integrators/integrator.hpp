@@ -66,7 +66,7 @@ struct StepInput {
   bool diagnose = true;  // compute what the loud-failure checks need (start energy, inversions)
   // The step's contacts (implicit integrators; null or empty: none), detected at x: their
   // potential joins the body's like the attachment springs' (contact/contact_set.hpp).
-  const ContactSet* contacts = nullptr;
+  ContactSet* contacts = nullptr;
   bool has_contacts() const { return contacts && !contacts->empty(); }
 };
 

@@ -1,0 +1,117 @@
+"""Contact of a simulated body with rigid obstacles: the Simulation members that add,
+remove and report them (the formulation: cpp/include/corotate/contact/contact_set.hpp)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+import corotate._core as _core
+
+from ._numbers import real_number
+from .obstacles import Obstacle
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+
+class ContactMembers:
+    """Mixed into Simulation (needs ``self._sim`` and ``self._body``)."""
+
+    _sim: Any
+    _body: Any
+    _obstacles: list[Obstacle]
+    _contact_nodes_set: bool
+    _node_list: Any  # DrivenBody's
+
+    def add_obstacle(self, obstacle: Obstacle, friction: float = 0.0) -> None:
+        """Let the body touch `obstacle` (Plane, Sphere, Box, Capsule, Cylinder) with Coulomb
+        friction coefficient `friction` (>= 0).
+
+        The contact nodes are the body's surface nodes unless ``contact_nodes`` was set. The
+        contact is part of the implicit step (stable at the real-time step); its force is
+        ``contact_settings["stiffness_scale"]`` times the node's own stiffness in the step,
+        and a multiplier carried from step to step brings a resting contact's penetration to
+        zero. Raises ValueError (nothing changed) for a negative or non-finite friction, an
+        obstacle added twice, an explicit integrator, or surface nodes that start inside it.
+        """
+        if not isinstance(obstacle, Obstacle):
+            raise TypeError(f"obstacle must be a corotate Plane, Sphere, Box, Capsule or Cylinder, not {type(obstacle).__name__}")
+        mu = real_number(friction, "friction")
+        if not self._contact_nodes_set:
+            self._sim.contact_nodes = self._surface_nodes()
+            self._contact_nodes_set = True
+        self._sim.add_obstacle(obstacle._core, mu)
+        self._obstacles.append(obstacle)
+
+    def remove_obstacle(self, obstacle: Obstacle) -> None:
+        """Stop touching `obstacle` (ValueError when it was not added)."""
+        if not isinstance(obstacle, Obstacle):
+            raise TypeError(f"obstacle must be a corotate obstacle, not {type(obstacle).__name__}")
+        self._sim.remove_obstacle(obstacle._core)
+        self._obstacles.remove(obstacle)
+
+    def set_friction(self, obstacle: Obstacle, friction: float) -> None:
+        """A new friction coefficient (>= 0) between the body and `obstacle`."""
+        self._sim.set_friction(obstacle._core, real_number(friction, "friction"))
+
+    @property
+    def obstacles(self) -> list[tuple[Obstacle, float]]:
+        """(obstacle, friction) pairs, in the order they were added (read-only)."""
+        frictions = [mu for _, mu in self._sim.obstacles]
+        return list(zip(self._obstacles, frictions))
+
+    @property
+    def contact_nodes(self) -> np.ndarray:
+        """The nodes that can touch obstacles (default: the surface's). Settable to any set of
+        node indices (ValueError for one out of range or listed twice)."""
+        if not self._contact_nodes_set:
+            return self._surface_nodes()
+        return np.asarray(self._sim.contact_nodes, dtype=np.int64)
+
+    @contact_nodes.setter
+    def contact_nodes(self, nodes: ArrayLike) -> None:
+        self._sim.contact_nodes = self._node_list(nodes)
+        self._contact_nodes_set = True
+
+    @property
+    def contact_settings(self) -> dict[str, float]:
+        """{"stiffness_scale": contact stiffness over the node's own stiffness in the step
+        (default 100), "friction_velocity": slip speed [m/s] below which friction sticks
+        (default 1e-3; the smoothed Coulomb law's width)}. Assign a dict with either key."""
+        s = self._sim.contact_settings
+        return {"stiffness_scale": s.stiffness_scale, "friction_velocity": s.friction_velocity}
+
+    @contact_settings.setter
+    def contact_settings(self, settings: dict[str, float]) -> None:
+        unknown = set(settings) - {"stiffness_scale", "friction_velocity"}
+        if unknown:
+            raise ValueError(f"unknown contact settings {sorted(unknown)}; known: stiffness_scale, friction_velocity")
+        merged = {**self.contact_settings, **{k: real_number(v, k) for k, v in settings.items()}}
+        self._sim.contact_settings = _core.ContactSettings(**merged)
+
+    @property
+    def contacts(self) -> dict[str, np.ndarray]:
+        """The last step's contacts, one row each: "nodes", "obstacles" (indices into
+        ``obstacles``), "normals" and "points" (the obstacle's tangent plane), "forces" (m, 3)
+        the force each exerted on the body at the step's end (normal and friction),
+        "multipliers" (the normal force carried to the next step) and "friction_limits"
+        (mu N of the step, N the multiplier carried into it: a new contact has no friction
+        in its first step)."""
+        return {k: np.asarray(v) for k, v in self._sim.contacts.items()}
+
+    def contact_force(self, obstacle: Obstacle | None = None) -> np.ndarray:
+        """(3,) the total force obstacles exerted on the body at the end of the last step (of
+        `obstacle` alone when given). The body pushes back on the obstacle with its negative."""
+        c = self._sim.contacts
+        forces = np.asarray(c["forces"]).reshape(-1, 3)
+        if obstacle is not None:
+            index = next((j for j, o in enumerate(self._obstacles) if o is obstacle), None)
+            if index is None:
+                raise ValueError(f"{obstacle!r} is not an obstacle of this simulation")
+            forces = forces[np.asarray(c["obstacles"]) == index]
+        return forces.sum(axis=0)
+
+    def _surface_nodes(self) -> np.ndarray:
+        return np.unique(self._body.mesh.boundary_faces())
