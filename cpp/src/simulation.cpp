@@ -107,7 +107,14 @@ void Simulation::check_health(StepStats& st) {
 }
 
 StepInput Simulation::input() {
-  return {*model_, x_, v_, load_, fixed_, attachments_, *solver_, failure_policy_ != FailurePolicy::Ignore,
+  return {*model_,
+          x_,
+          v_,
+          load_,
+          fixed_,
+          attachments_,
+          *solver_,
+          failure_policy_ != FailurePolicy::Ignore,
           obstacle_links_.empty() ? nullptr : &contacts_};
 }
 

@@ -24,9 +24,9 @@ from .explicit import ExplicitSimulation
 from .feedback import HapticFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
-from .obstacles import Box, Capsule, Cylinder, Plane, Sphere
 from .mesh import SUPPORTED_CELL_TYPES, Mesh, beam, box, cell_types, read_mesh, rectangle, write_mesh
 from .meshing import tetrahedralize
+from .obstacles import Box, Capsule, Cylinder, Plane, Sphere
 from .output import TimeSeriesWriter
 from .simulation import Simulation
 from .solvers import PCG, Direct

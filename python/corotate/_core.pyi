@@ -7,7 +7,7 @@ import numpy
 import numpy.typing
 import scipy.sparse
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'FloatingFrame', 'ForceModel', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'inertial_load_coefficients', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'Box', 'Capsule', 'ContactSettings', 'Cylinder', 'FloatingFrame', 'ForceModel', 'HalfSpace', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'Obstacle', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'Sphere', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'inertial_load_coefficients', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -346,14 +346,21 @@ class IntegratorSettings:
     def time_step(self) -> float:
         ...
 class Simulation:
+    contact_settings: ContactSettings
     settings: IntegratorSettings
     def __init__(self, model: ForceModel, settings: IntegratorSettings, solver: str = 'pcg', pcg: PCGSettings = ...) -> None:
         """
         Simulation of its own copy of `model`, stepped by the integrator of `settings`.
         """
+    def add_obstacle(self, obstacle: Obstacle, friction: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
     def attach(self, nodes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], targets: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
         """
         Attach nodes to targets ((m, 3)) by zero-rest-length springs (stiffness: m values [N/m]).
+        """
+    def contact_potential(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple[float, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The last step's contact potentials at positions (n, 3): (energy, force per contact (m, 3), Hessian per contact (3m, 3)), for checking them against finite differences.
         """
     def damping_forces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
@@ -381,11 +388,15 @@ class Simulation:
         """
         New targets ((m, 3)) for attached nodes.
         """
+    def remove_obstacle(self, obstacle: Obstacle) -> None:
+        ...
     def reset(self) -> None:
         """
         Back to the rest state (positions = rest, velocities, external forces and time zero, stats and warm starts cleared); fixed nodes, gravity and settings are kept.
         """
     def reset_stats(self) -> None:
+        ...
+    def set_friction(self, obstacle: Obstacle, friction: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_solver(self, solver: str, pcg: PCGSettings = ...) -> None:
         ...
@@ -406,6 +417,17 @@ class Simulation:
     def attachments(self) -> tuple[list[int], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
         """
         (nodes, targets (m, 3), stiffness (m,)) of the attachment springs (copies).
+        """
+    @property
+    def contact_nodes(self) -> list[int]:
+        ...
+    @contact_nodes.setter
+    def contact_nodes(self, arg1: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def contacts(self) -> dict:
+        """
+        The last step's contacts: nodes, obstacle indices, the planes (normals, points), the force each exerted on the body at the step's end (m, 3), the normal multipliers carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).
         """
     @property
     def external_forces(self) -> numpy.ndarray:
@@ -437,6 +459,9 @@ class Simulation:
     def num_nodes(self) -> int:
         ...
     @property
+    def obstacles(self) -> list:
+        ...
+    @property
     def positions(self) -> numpy.ndarray:
         ...
     @property
@@ -447,6 +472,53 @@ class Simulation:
         ...
     @property
     def velocities(self) -> numpy.ndarray:
+        ...
+class Obstacle:
+    def __repr__(self) -> str:
+        ...
+    def distance(self, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        (signed distances (m,), outward unit normals (m, 3)) of world points (m, 3).
+        """
+    def set_pose(self, rotation: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], translation: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
+        """
+        Place the shape: x_world = rotation x_local + translation.
+        """
+    @property
+    def rotation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        ...
+    @property
+    def translation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def version(self) -> int:
+        ...
+class HalfSpace(Obstacle):
+    def __init__(self) -> None:
+        ...
+class Sphere(Obstacle):
+    def __init__(self, radius: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def radius(self) -> float:
+        ...
+class Box(Obstacle):
+    def __init__(self, half_extents: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
+        ...
+class Capsule(Obstacle):
+    def __init__(self, radius: typing.SupportsFloat | typing.SupportsIndex, half_length: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+class Cylinder(Obstacle):
+    def __init__(self, radius: typing.SupportsFloat | typing.SupportsIndex, half_length: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+class ContactSettings:
+    def __init__(self, stiffness_scale: typing.SupportsFloat | typing.SupportsIndex = 100.0, friction_velocity: typing.SupportsFloat | typing.SupportsIndex = 0.001) -> None:
+        ...
+    @property
+    def friction_velocity(self) -> float:
+        ...
+    @property
+    def stiffness_scale(self) -> float:
         ...
 class HapticFeedback:
     def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: RegionMaterials, tool: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], method: str, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:

@@ -37,7 +37,9 @@ class ContactMembers:
         obstacle added twice, an explicit integrator, or surface nodes that start inside it.
         """
         if not isinstance(obstacle, Obstacle):
-            raise TypeError(f"obstacle must be a corotate Plane, Sphere, Box, Capsule or Cylinder, not {type(obstacle).__name__}")
+            raise TypeError(
+                f"obstacle must be a corotate Plane, Sphere, Box, Capsule or Cylinder, not {type(obstacle).__name__}"
+            )
         mu = real_number(friction, "friction")
         if not self._contact_nodes_set:
             self._sim.contact_nodes = self._surface_nodes()

@@ -10,7 +10,7 @@ saw it to the new pose (so its velocity, which friction feels, is the displaceme
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -48,9 +48,9 @@ class Obstacle:
     """Base of the shapes: a rigid placement (``position``, ``rotation``) of a shape defined
     in its own frame. Not constructed directly."""
 
-    _core: _core.Obstacle
+    _core: Any  # corotate._core.Obstacle
 
-    def __init__(self, core: _core.Obstacle, position: ArrayLike, rotation: ArrayLike | None) -> None:
+    def __init__(self, core: Any, position: ArrayLike, rotation: ArrayLike | None) -> None:
         self._core = core
         self.move_to(position, np.eye(3) if rotation is None else rotation)
 

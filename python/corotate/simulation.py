@@ -10,8 +10,8 @@ import corotate._core as _core
 
 from ._numbers import real_number
 from .body import Body
-from .contact import ContactMembers
 from .choices import IMPLICIT_INTEGRATORS, MASS_KINDS, FailurePolicy, ImplicitIntegratorName, MassKind, check_choice
+from .contact import ContactMembers
 from .driven_body import DrivenBody
 from .solvers import PCG, Direct
 

@@ -5,7 +5,7 @@ import numpy as np
 import corotate as cr
 
 CUBE = 0.1  # [m] edge of the test cube
-CELLS = 4   # cells per edge: the element size is CUBE / CELLS
+CELLS = 4  # cells per edge: the element size is CUBE / CELLS
 
 
 def cube(z0: float = 0.0, E: float = 1e5, cells: int = CELLS, **simulation):

@@ -12,7 +12,7 @@ import corotate as cr
 def contact_scene(friction, tilt_deg=0.0):
     """A cube resting on a tilted plane after a few steps: contacts with carried force."""
     tilt = np.deg2rad(tilt_deg)
-    mesh, sim = cube(z0=0.0)
+    _mesh, sim = cube(z0=0.0)
     sim.gravity = 9.81 * np.array([np.sin(tilt), 0.0, -np.cos(tilt)])
     sim.add_obstacle(cr.Plane(), friction=friction)
     sim.step(50)
@@ -41,7 +41,9 @@ def test_forces_and_hessians_are_the_energy_derivatives(friction, tilt, shift):
             # force = -dE/dy; Hessian column = -d force / dy
             assert forces[k, axis] == pytest.approx(-(e_plus - e_minus) / (2 * h), rel=1e-5, abs=1e-9)
             column = -(f_plus[k] - f_minus[k]) / (2 * h)
-            np.testing.assert_allclose(hessians[3 * k : 3 * k + 3, axis], column, rtol=1e-5, atol=1e-6 * np.abs(hessians).max())
+            np.testing.assert_allclose(
+                hessians[3 * k : 3 * k + 3, axis], column, rtol=1e-5, atol=1e-6 * np.abs(hessians).max()
+            )
     # The Hessians are symmetric and positive semi-definite (the step's system stays SPD).
     blocks = hessians.reshape(-1, 3, 3)
     np.testing.assert_allclose(blocks, blocks.transpose(0, 2, 1), atol=1e-9 * np.abs(blocks).max())

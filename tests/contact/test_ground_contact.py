@@ -50,7 +50,7 @@ def test_resting_on_a_tilted_box_top():
     tilt = np.deg2rad(10)
     rot = np.array([[np.cos(tilt), 0, np.sin(tilt)], [0, 1, 0], [-np.sin(tilt), 0, np.cos(tilt)]])
     slab = cr.Box((0, 0, -0.05), (1.0, 1.0, 0.1), rot)
-    mesh, sim = cube(z0=0.03)
+    _mesh, sim = cube(z0=0.03)
     sim.add_obstacle(slab, friction=0.8)
     sim.step(200)
     assert slab.distance(sim.positions)[0].min() > -0.01 * ELEMENT
@@ -63,7 +63,7 @@ def test_no_tunnelling_through_a_thin_slab_at_10_m_per_s(thickness):
     impact that stops the body in one step needs an accurate solve (the default PCG's 1e-2
     residual is for resting and sliding contact)."""
     accurate = cr.PCG(max_iterations=200, tolerance=1e-8)
-    mesh, sim = cube(z0=0.02, E=1e8, solver=accurate)  # stiff: a 10 m/s impact strains it by v / c = 3 %
+    _mesh, sim = cube(z0=0.02, E=1e8, solver=accurate)  # stiff: a 10 m/s impact strains it by v / c = 3 %
     sim.velocities[:] = (0.0, 0.0, -10.0)
     slab = cr.Box((0, 0, -thickness / 2), (1.0, 1.0, thickness))
     sim.add_obstacle(slab)
@@ -76,7 +76,7 @@ def test_no_tunnelling_through_a_thin_slab_at_10_m_per_s(thickness):
 
 def test_sphere_pushed_into_a_cube_from_the_side_moves_it():
     """A kinematic probe moved between frames: its velocity comes from its displacement."""
-    mesh, sim = cube(z0=0.0)
+    _mesh, sim = cube(z0=0.0)
     ground, probe = cr.Plane(), cr.Sphere((-0.1, 0, 0.05), 0.03)
     sim.add_obstacle(ground)
     sim.add_obstacle(probe)

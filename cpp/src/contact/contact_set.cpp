@@ -110,13 +110,16 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
   }
   for (const Contact& c : previous_) first_contact_[c.node] = -1;  // back to all -1 (no allocation)
   // Sorted by node, so that the next step finds a node's contacts side by side.
-  std::sort(contacts_.begin(), contacts_.end(),
-            [](const Contact& p, const Contact& q) { return p.node != q.node ? p.node < q.node : p.obstacle < q.obstacle; });
+  std::sort(contacts_.begin(), contacts_.end(), [](const Contact& p, const Contact& q) {
+    return p.node != q.node ? p.node < q.node : p.obstacle < q.obstacle;
+  });
 }
 
 namespace {
 // The smoothed friction's F0 and f1 = F0' and f1' (see the header), s >= 0.
-double friction_potential(double s, double eps) { return s < eps ? s * s / eps - s * s * s / (3 * eps * eps) : s - eps / 3; }
+double friction_potential(double s, double eps) {
+  return s < eps ? s * s / eps - s * s * s / (3 * eps * eps) : s - eps / 3;
+}
 }  // namespace
 
 double ContactSet::energy_of(const Contact& c, const Vec3& y) const {

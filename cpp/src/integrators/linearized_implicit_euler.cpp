@@ -34,75 +34,75 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     // solved again, a few times at most (contact_set.hpp, update_active).
     stats.solve.iterations = 0;
     for (int pass = 0;; ++pass) {
-    const int iterations_before = stats.solve.iterations;
-    force_ = in.load;
-    y_ = in.x + (dt + beta) * in.v;
-    // Only the blocks the solve reads: a third fewer to add (a PCG whose preconditioner is
-    // built reads the rest only when it rebuilds). Where the solver multiplies in float32
-    // anyway, the system goes straight into its float32 copy: no double matrix to fill and
-    // convert (LinearSolver::single_precision_target).
-    SinglePrecisionSymmetric* single =
-        in.model.assembles_single_precision() ? in.solver.single_precision_target() : nullptr;
-    const bool lower_blocks = !single && in.solver.needs_lower_blocks();
-    if (single) single->start_assembly(mass_, 1 + dt * alpha, mass_version_);
-    else system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
-    Request what;
-    what.lower_blocks = lower_blocks;
-    what.forces = true;
-    what.energy = in.diagnose;  // at x, in the same sweep: for the simulation's run-away checks
-    what.count_inverted = in.diagnose;
-    what.forces_at = &y_;
-    what.stiffness = StiffnessKind::Model;
-    what.stiffness_scale = dt * dt + dt * beta;
-    Results out;
-    out.forces = &force_;
-    if (single) out.single_stiffness = single;
-    else out.stiffness = &system_;
-    in.model.evaluate(in.x, what, out);
-    // The attachment springs are linear: their force at y is their linearisation, and their
-    // stiffness goes into A like the body's (damped by beta with it).
-    in.attachments.add_forces(y_, force_);
-    if (single) in.attachments.add_stiffness(what.stiffness_scale, *single);
-    else in.attachments.add_stiffness(what.stiffness_scale, system_);
-    // Contacts likewise (undamped by beta), linearised where each node's free flight ends:
-    // a node at rest above the floor touches it only under the step's gravity. The
-    // friction's Hessian times dt^2 is its damping dt dF/dv on the new velocity.
-    if (in.has_contacts()) in.contacts->add_linearized(y_, force_, dt * dt, single ? nullptr : &system_, single);
-    if (in.diagnose) {
-      stats.start_energy = out.energy;
-      stats.start_inverted = out.inverted;
-    }
-    rhs_ = dt * as_dofs(force_);
-    if (alpha != 0) {
-      mass_.multiply(as_dofs(in.v), work_);
-      rhs_ -= (dt * alpha) * work_;
-    }
-    if (single) in.fixed.project(*single);
-    else in.fixed.project(system_);
-    in.fixed.project(rhs_);
-    stats.assembly_ms = ms_since(t_start);
+      const int iterations_before = stats.solve.iterations;
+      force_ = in.load;
+      y_ = in.x + (dt + beta) * in.v;
+      // Only the blocks the solve reads: a third fewer to add (a PCG whose preconditioner is
+      // built reads the rest only when it rebuilds). Where the solver multiplies in float32
+      // anyway, the system goes straight into its float32 copy: no double matrix to fill and
+      // convert (LinearSolver::single_precision_target).
+      SinglePrecisionSymmetric* single =
+          in.model.assembles_single_precision() ? in.solver.single_precision_target() : nullptr;
+      const bool lower_blocks = !single && in.solver.needs_lower_blocks();
+      if (single) single->start_assembly(mass_, 1 + dt * alpha, mass_version_);
+      else system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
+      Request what;
+      what.lower_blocks = lower_blocks;
+      what.forces = true;
+      what.energy = in.diagnose;  // at x, in the same sweep: for the simulation's run-away checks
+      what.count_inverted = in.diagnose;
+      what.forces_at = &y_;
+      what.stiffness = StiffnessKind::Model;
+      what.stiffness_scale = dt * dt + dt * beta;
+      Results out;
+      out.forces = &force_;
+      if (single) out.single_stiffness = single;
+      else out.stiffness = &system_;
+      in.model.evaluate(in.x, what, out);
+      // The attachment springs are linear: their force at y is their linearisation, and their
+      // stiffness goes into A like the body's (damped by beta with it).
+      in.attachments.add_forces(y_, force_);
+      if (single) in.attachments.add_stiffness(what.stiffness_scale, *single);
+      else in.attachments.add_stiffness(what.stiffness_scale, system_);
+      // Contacts likewise (undamped by beta), linearised where each node's free flight ends:
+      // a node at rest above the floor touches it only under the step's gravity. The
+      // friction's Hessian times dt^2 is its damping dt dF/dv on the new velocity.
+      if (in.has_contacts()) in.contacts->add_linearized(y_, force_, dt * dt, single ? nullptr : &system_, single);
+      if (in.diagnose) {
+        stats.start_energy = out.energy;
+        stats.start_inverted = out.inverted;
+      }
+      rhs_ = dt * as_dofs(force_);
+      if (alpha != 0) {
+        mass_.multiply(as_dofs(in.v), work_);
+        rhs_ -= (dt * alpha) * work_;
+      }
+      if (single) in.fixed.project(*single);
+      else in.fixed.project(system_);
+      in.fixed.project(rhs_);
+      stats.assembly_ms = ms_since(t_start);
 
-    // dv_ still holds the previous step's answer: the warm start. A is assembled at x.
-    const auto t_solve = clock::now();
-    in.solver.set_positions(in.x);
-    try {
-      stats.solve = single ? in.solver.solve_single_precision(rhs_, dv_) : in.solver.solve(system_, rhs_, dv_);
-    } catch (const NotPositiveDefinite& e) {
-      // A linearised step needs M + dt^2 K positive definite; a hyperelastic tangent under
-      // compression (StVK sheets crumpling, inverted elements) is not, and the step that
-      // meets it is too large for the linearisation anyway.
-      throw NotPositiveDefinite(std::string(e.what()) +
-                                ": the linearised step met an indefinite stiffness (compressed StVK, membranes or "
-                                "inverted elements): the step is too large for its linearisation; use a smaller dt "
-                                "with Body(..., project_psd=True), which keeps the system positive definite");
-    }
-    in.fixed.project(dv_);
-    stats.solve_ms = ms_since(t_solve);
+      // dv_ still holds the previous step's answer: the warm start. A is assembled at x.
+      const auto t_solve = clock::now();
+      in.solver.set_positions(in.x);
+      try {
+        stats.solve = single ? in.solver.solve_single_precision(rhs_, dv_) : in.solver.solve(system_, rhs_, dv_);
+      } catch (const NotPositiveDefinite& e) {
+        // A linearised step needs M + dt^2 K positive definite; a hyperelastic tangent under
+        // compression (StVK sheets crumpling, inverted elements) is not, and the step that
+        // meets it is too large for the linearisation anyway.
+        throw NotPositiveDefinite(std::string(e.what()) +
+                                  ": the linearised step met an indefinite stiffness (compressed StVK, membranes or "
+                                  "inverted elements): the step is too large for its linearisation; use a smaller dt "
+                                  "with Body(..., project_psd=True), which keeps the system positive definite");
+      }
+      in.fixed.project(dv_);
+      stats.solve_ms = ms_since(t_solve);
 
-    as_dofs(v_new) = as_dofs(in.v) + dv_;
-    as_dofs(x_new) = as_dofs(in.x) + dt * as_dofs(v_new);
-    stats.solve.iterations += iterations_before;
-    if (!in.has_contacts() || pass == kContactPasses || !in.contacts->update_active(x_new)) break;
+      as_dofs(v_new) = as_dofs(in.v) + dv_;
+      as_dofs(x_new) = as_dofs(in.x) + dt * as_dofs(v_new);
+      stats.solve.iterations += iterations_before;
+      if (!in.has_contacts() || pass == kContactPasses || !in.contacts->update_active(x_new)) break;
     }
     stats.total_ms = ms_since(t_start);
     return stats;

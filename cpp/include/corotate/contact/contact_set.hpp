@@ -86,8 +86,8 @@ class ContactSet {
 
   // The step's contacts from the state at its start (see above); poses: each link's current
   // pose, read once.
-  void detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x,
-              const Nodes& v, const Vec3& gravity, double dt);
+  void detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x, const Nodes& v,
+              const Vec3& gravity, double dt);
 
   // The potentials at positions y (3 x n), as Attachments has them.
   double energy(const Nodes& y) const;
