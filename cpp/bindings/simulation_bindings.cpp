@@ -57,6 +57,7 @@ py::dict stats_dict(const SimulationStats& st) {
   d["last_substep"] = st.last.substep;
   d["iterations"] = st.last.solve.iterations;
   d["newton_iterations"] = st.last.newton_iterations;
+  d["contact_passes"] = st.last.contact_passes;
   d["newton_residuals"] = st.last.newton_residuals;
   d["residual"] = st.last.solve.relative_residual;
   d["converged"] = st.last.solve.converged;

@@ -172,9 +172,17 @@ void Simulation::add_obstacle(std::shared_ptr<Obstacle> obstacle, double frictio
     Results out;
     out.stiffness = &k;
     model_->evaluate(model_->rest_positions(), what, out);
-    Vec node_stiffness(num_nodes());
-    for (Index i = 0; i < num_nodes(); ++i) node_stiffness[i] = std::max(0.0, k.block(k.diagonal_block(i)).trace() / 3);
-    contacts_.set_node_properties(lumped_masses_, node_stiffness);
+    Vec node_stiffness(num_nodes()), node_sizes(num_nodes());
+    const Nodes& rest = model_->rest_positions();
+    for (Index i = 0; i < num_nodes(); ++i) {
+      node_stiffness[i] = std::max(0.0, k.block(k.diagonal_block(i)).trace() / 3);
+      double sum = 0;
+      int count = 0;
+      for (int b = k.row_start()[i]; b < k.row_start()[i + 1]; ++b)
+        if (k.columns()[b] != i) sum += (rest.col(k.columns()[b]) - rest.col(i)).norm(), ++count;
+      node_sizes[i] = count ? sum / count : 0.0;
+    }
+    contacts_.set_node_properties(lumped_masses_, node_stiffness, node_sizes);
   }
   ObstacleLink link;
   link.obstacle = std::move(obstacle);

@@ -21,9 +21,10 @@ void ContactSettings::validate() const {
   }
 }
 
-void ContactSet::set_node_properties(Vec masses, Vec node_stiffness) {
+void ContactSet::set_node_properties(Vec masses, Vec node_stiffness, Vec node_sizes) {
   masses_ = std::move(masses);
   node_stiffness_ = std::move(node_stiffness);
+  node_sizes_ = std::move(node_sizes);
 }
 
 void ContactSet::set_nodes(std::vector<Index> nodes) { nodes_ = std::move(nodes); }
@@ -38,9 +39,12 @@ namespace {
 // Where the path from a to b (obstacle frame) first touches the surface: the parameter t in
 // [0, 1], or -1 when it stays outside. Sphere tracing: the signed distance is a lower bound
 // of the distance to the surface, so advancing by it never steps over the surface.
+// How near the surface counts as touching for a path from a to b.
+double touch_tolerance(const Vec3& a, const Vec3& b) { return 1e-3 * (b - a).norm() + 1e-12; }
+
 double first_touch(const Obstacle& obstacle, const Vec3& a, const Vec3& b, double distance_at_a) {
   const double length = (b - a).norm();
-  const double tolerance = 1e-3 * length + 1e-12;
+  const double tolerance = touch_tolerance(a, b);
   if (distance_at_a <= tolerance) return 0;
   if (distance_at_a > length) return -1;
   double t = 0, d = distance_at_a;
@@ -81,7 +85,12 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
       const double distance_at_a = obstacle.local_distance(a, normal);
       const double lambda = previous_.empty() ? 0.0 : carried(i, j);
       const double t = first_touch(obstacle, a, b, distance_at_a);
-      if (t < 0 && lambda == 0) continue;
+      // A new contact needs a path that enters: one that starts on the surface and moves
+      // along it or away (a side resting against a wall) touches without pushing, and as a
+      // contact it would only cost the active set a second solve.
+      if (lambda == 0 && (t < 0 || (t == 0 && distance_at_a > -touch_tolerance(a, b) &&
+                                    obstacle.local_distance(b, normal) >= -touch_tolerance(a, b))))
+        continue;
       // The tangent plane where the path first touches (at its start when it does not touch
       // but the contact carried force: the node rests on the surface).
       const Vec3 p = a + std::max(t, 0.0) * (b - a);
@@ -236,7 +245,8 @@ bool ContactSet::update_active(const Nodes& x_new) {
     // Only a contact new in this step (no carried force) is released: one that carried force
     // into the step rests on the surface, where a solve's round-off flips the sign of its
     // tiny gap from pass to pass; its multiplier lets go over the next step if it pulls.
-    const bool active = c.active ? c.multiplier > 0 || gap <= 0 : gap < 0;
+    const double noise = 1e-3 * node_sizes_[c.node];
+    const bool active = c.active ? c.multiplier > 0 || gap <= noise : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;
   }

@@ -72,8 +72,9 @@ struct Contact {
 
 class ContactSet {
  public:
-  // Per node of the body: its lumped mass and rest stiffness (k_i above).
-  void set_node_properties(Vec masses, Vec node_stiffness);
+  // Per node of the body: its lumped mass, rest stiffness (k_i above) and size (the mean
+  // rest distance to the nodes it shares elements with).
+  void set_node_properties(Vec masses, Vec node_stiffness, Vec node_sizes);
   bool has_node_properties() const { return masses_.size() > 0; }
 
   bool empty() const { return contacts_.empty(); }
@@ -102,8 +103,10 @@ class ContactSet {
                       SinglePrecisionSymmetric* single) const;
 
   // For the linearised step's active set: releases the active contacts new in this step whose
-  // linear normal force at x_new pulls, and takes back released ones whose node ended inside (an inexact
-  // solve can leave a node just above its plane); returns whether any changed.
+  // node ended outside (their linear force pulls), and takes back released ones whose node
+  // ended inside; returns whether any changed. Both by more than 1e-3 of the node's size: a
+  // node that touches without load (a side against a wall) ends within an inexact solve's
+  // noise of its plane, and would flip from pass to pass.
   bool update_active(const Nodes& x_new);
 
   // After a step ending at x_new: the multipliers for the next step, and the force each
@@ -124,7 +127,7 @@ class ContactSet {
   static Vec3 friction(const Contact& c, const Vec3& y, Mat3* hessian);
 
   std::vector<Index> nodes_;
-  Vec masses_, node_stiffness_;
+  Vec masses_, node_stiffness_, node_sizes_;
   ContactSettings settings_;
   std::vector<Contact> contacts_, previous_;  // this step's; the last step's (detect())
   std::vector<int> first_contact_;             // per node: its first contact in previous_, or -1

@@ -74,6 +74,7 @@ struct StepStats {
   double dt = 0;                         // simulated time the step advanced [s]
   SolveStats solve;                      // of the last linear solve (iterations: summed over Newton)
   int newton_iterations = 0;             // 0 for the linearised step
+  int contact_passes = 0;                // linearised step: solves after the first (contacts released)
   std::vector<double> newton_residuals;  // relative gradient norm before each Newton iteration
   int substeps = 1;                      // explicit: substeps taken, and their size [s]
   double substep = 0;
