@@ -12,6 +12,7 @@ dropped onto the floor in real time.
    Table 1 study; E = 1e6 Pa, nu = 0.33), dropped from 5 cm onto the floor with friction 0.5,
    five 0.01 s steps per frame as in Table 1: ms per step, CG iterations and the real-time
    ratio (simulated over wall seconds) over 3 s, landing included.
+3. ToolFeedback.query, the haptic loop's call, from Python.
 Prints the CPU and the instruction set the core was built for.
 """
 
@@ -63,7 +64,7 @@ def armadillo_drop(path: Path, seconds: float) -> None:
     volume = cr.read_mesh(path)
     mesh = cr.Mesh(volume.points * 0.1, volume.cells, "tetra")
     lift = 0.05 - mesh.points[:, 1].min()
-    mesh = cr.Mesh(mesh.points + (0, lift, 0), mesh.cells, "tetra")
+    mesh = cr.Mesh(mesh.points + np.array([0.0, lift, 0.0]), mesh.cells, "tetra")
     sim = cr.Simulation(cr.Body(mesh, cr.Material(E=1e6, nu=0.33, density=1000.0)), dt=0.01, gravity=(0, -9.81, 0))
     sim.add_obstacle(cr.Plane((0, 0, 0), (0, 1, 0)), friction=0.5)
     frames = round(seconds / 0.05)
@@ -80,20 +81,54 @@ def armadillo_drop(path: Path, seconds: float) -> None:
     )
 
 
+def feedback_query(repeats: int) -> None:
+    """Microseconds per ToolFeedback.query from Python (the haptic loop's call)."""
+    mesh = cr.box((0.1, 0.1, 0.1), (8, 8, 8))
+    sim = cr.Simulation(cr.Body(mesh, cr.Material(E=1e5, nu=0.3, density=1000.0)))
+    sim.fix(np.flatnonzero(mesh.points[:, 2] == 0))
+    probe = cr.Sphere((0.05, 0.05, 0.12), 0.02)
+    sim.add_obstacle(probe)
+    feedback = cr.ToolFeedback(sim, probe)
+    for step in range(1, 21):
+        probe.move_to((0.05, 0.05, 0.12 - 5e-4 * step))
+        sim.step()
+        feedback.update()
+    p = probe.position
+    runs = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(10000):
+            feedback.query(p)
+        runs.append((time.perf_counter() - t0) / 10000 * 1e6)
+    print(f"ToolFeedback.query from Python: {np.median(runs):.1f} us (median of {repeats} runs of 10,000 calls)")
+
+
+def cpu_name() -> str:
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.exists():
+        for line in cpuinfo.read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    return platform.machine()
+
+
 def main() -> None:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("--data", default=str(ARMADILLO), help="the armadillo tet mesh (default: %(default)s)")
     p.add_argument("--steps", type=int, default=20, help="steps per timed run of the beam (default 20)")
     p.add_argument("--repeats", type=int, default=5, help="runs per beam configuration (default 5)")
     p.add_argument("--seconds", type=float, default=3.0, help="simulated seconds of the armadillo drop (default 3)")
     args = p.parse_args()
-    info = cr.build_info()
-    cpu = next((line.split(':', 1)[1].strip() for line in Path('/proc/cpuinfo').read_text().splitlines() if line.startswith('model name')), platform.machine()) if Path('/proc/cpuinfo').exists() else platform.machine()
-    print(f"{cpu}; the core runs its {info['instruction_set']} code path")
-    beam_runs(args.steps, args.repeats)
     data = Path(args.data)
     if not data.is_file():
         p.error(f"the armadillo mesh is not at {data}: pass its path with --data (the shared data beside the clone)")
+    info = cr.build_info()
+    cpu = cpu_name()
+    print(f"{cpu}; the core runs its {info['instruction_set']} code path")
+    feedback_query(args.repeats)
+    beam_runs(args.steps, args.repeats)
     armadillo_drop(data, args.seconds)
 
 

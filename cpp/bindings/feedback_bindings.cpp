@@ -6,12 +6,31 @@
 
 #include "conversions.hpp"
 #include "corotate/feedback/haptic_feedback.hpp"
+#include "corotate/feedback/tool_feedback.hpp"
 
 namespace py = pybind11;
 using namespace corotate;
 using namespace corotate::bindings;
 
 void bind_feedback(py::module_& m) {
+  py::class_<ToolFeedback>(m, "ToolFeedback")
+      .def(py::init<std::shared_ptr<Obstacle>>(), py::arg("tool"))
+      .def("update", &ToolFeedback::update, py::arg("simulation"),
+           "After a body step: the force on the tool and the secant stiffness (feedback/tool_feedback.hpp).")
+      .def(
+          "query",
+          [](const ToolFeedback& self, const Vec3& position) {
+            ToolFeedback::Feedback f;
+            {
+              py::gil_scoped_release release;
+              f = self.query(position);
+            }
+            return py::make_tuple(f.force, f.stiffness);
+          },
+          py::arg("position"), "(force on the tool (3,), dF/dp (3, 3)) at the tool position (3,).")
+      .def_property_readonly("force", &ToolFeedback::force)
+      .def_property_readonly("position", &ToolFeedback::position)
+      .def_property_readonly("touching", &ToolFeedback::touching);
   m.def("feedback_method_names", &feedback_method_names, "Every feedback method name.");
   py::class_<HapticFeedback>(m, "HapticFeedback")
       .def(py::init([](const std::string& cell_type, const PointsIn& points, const CellsIn& cells,

@@ -21,7 +21,7 @@ from .build import build_info
 from .driven_body import SimulationWarning
 from .embedding import EmbeddedSurface, read_surface
 from .explicit import ExplicitSimulation
-from .feedback import HapticFeedback
+from .feedback import HapticFeedback, ToolFeedback
 from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
 from .mesh import SUPPORTED_CELL_TYPES, Mesh, beam, box, cell_types, read_mesh, rectangle, write_mesh
@@ -53,6 +53,7 @@ __all__ = [
     "SpringGeometry",
     "ExplicitSimulation",
     "HapticFeedback",
+    "ToolFeedback",
     "Plane",
     "Sphere",
     "Box",

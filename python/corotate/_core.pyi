@@ -7,7 +7,7 @@ import numpy
 import numpy.typing
 import scipy.sparse
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'Box', 'Capsule', 'ContactSettings', 'Cylinder', 'FloatingFrame', 'ForceModel', 'HalfSpace', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'Obstacle', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'Sphere', 'SurfaceEmbedding', 'TimeStepPolicy', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'inertial_load_coefficients', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'Box', 'Capsule', 'ContactSettings', 'Cylinder', 'FloatingFrame', 'ForceModel', 'HalfSpace', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'Obstacle', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'Sphere', 'SurfaceEmbedding', 'TimeStepPolicy', 'ToolFeedback', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'inertial_load_coefficients', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -519,6 +519,26 @@ class ContactSettings:
         ...
     @property
     def stiffness_scale(self) -> float:
+        ...
+class ToolFeedback:
+    def __init__(self, tool: Obstacle) -> None:
+        ...
+    def query(self, position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]]:
+        """
+        (force on the tool (3,), dF/dp (3, 3)) at the tool position (3,).
+        """
+    def update(self, simulation: Simulation) -> None:
+        """
+        After a body step: the force on the tool and the secant stiffness (feedback/tool_feedback.hpp).
+        """
+    @property
+    def force(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def position(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        ...
+    @property
+    def touching(self) -> bool:
         ...
 class HapticFeedback:
     def __init__(self, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: RegionMaterials, tool: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], method: str, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:

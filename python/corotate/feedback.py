@@ -18,7 +18,7 @@ cpp/include/corotate/feedback/haptic_feedback.hpp.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -108,3 +108,58 @@ class HapticFeedback:
     def total_force(self, positions: ArrayLike) -> np.ndarray:
         """(3,) the resultant force the body exerts on the tool."""
         return self.query(positions)[0].sum(axis=0)
+
+
+class ToolFeedback:
+    """Force feedback through contact: the force a body exerts on a rigid tool (an obstacle
+    of the simulation that the hand moves) and its stiffness, at haptic rate.
+
+        probe = cr.Sphere(center, 0.01)
+        sim.add_obstacle(probe)
+        feedback = cr.ToolFeedback(sim, probe)
+        for frame in ...:
+            probe.move_to(device_position())   # the body's step sees the tool here
+            sim.step()
+            feedback.update()                  # force on the tool now, secant stiffness
+            for _ in range(10):                # 1 kHz between two 100 Hz steps
+                force, stiffness = feedback.query(device_position())
+
+    ``query(p)`` returns F0 + K (p - p0) and K = dF/dp: F0 is the force the contacts exerted
+    on the tool at the last step (the negative of the force on the body, friction included),
+    p0 the tool's position then, and K the secant of the force along the tool's own motion,
+    updated at every step (Powell's symmetric secant update): where the tissue deforms
+    largely, the paper's averaged stiffness of the whole body under the tool. Zero while the
+    tool touches nothing. ``query`` is thread-safe, releases the GIL and allocates nothing in
+    C++ (cpp/include/corotate/feedback/tool_feedback.hpp); call ``update`` from the thread
+    that steps the body.
+    """
+
+    def __init__(self, sim: DrivenBody, tool: Any) -> None:
+        from .obstacles import Obstacle
+
+        if not isinstance(tool, Obstacle):
+            raise TypeError(f"tool must be a corotate obstacle (Sphere, Capsule, ...), not {type(tool).__name__}")
+        if not any(o is tool for o, _ in getattr(sim, "obstacles", [])):
+            raise ValueError(f"{tool!r} is not an obstacle of this simulation: add it with sim.add_obstacle first")
+        self._sim = sim
+        self._tool = tool
+        self._core = _core.ToolFeedback(tool._core)
+        self._core.update(sim._sim)
+
+    def update(self) -> None:
+        """Take the force on the tool after the simulation's last step, and update the
+        stiffness along the tool's motion since the last update."""
+        self._core.update(self._sim._sim)
+
+    def query(self, position: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """(force on the tool (3,), dF/dp (3, 3)) with the tool at `position` (3,)."""
+        p = np.asarray(position, dtype=float)
+        if p.shape != (3,) or not np.all(np.isfinite(p)):
+            raise ValueError(f"position must be a finite 3-vector, got {p!r}")
+        force, stiffness = self._core.query(p)
+        return np.asarray(force), np.asarray(stiffness)
+
+    @property
+    def touching(self) -> bool:
+        """Whether the tool touched the body at the last update."""
+        return bool(self._core.touching)

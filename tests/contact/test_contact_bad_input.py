@@ -117,7 +117,7 @@ def test_non_finite_state_with_contact_is_refused_and_restored():
 def test_moving_a_tool_from_another_thread_while_stepping():
     """A haptic thread moves the probe at its own rate; every step reads one whole pose."""
     _mesh, sim = cube(z0=0.0)
-    probe = cr.Sphere((-0.08, 0, 0.05), 0.02)
+    probe = cr.Sphere((-0.071, 0, 0.05), 0.02)  # up to 1 mm into the cube's face at x = -0.05
     sim.add_obstacle(cr.Plane())
     sim.add_obstacle(probe)
     stop = threading.Event()
@@ -128,7 +128,7 @@ def test_moving_a_tool_from_another_thread_while_stepping():
         while not stop.is_set():
             k += 1
             try:
-                probe.move_to((-0.08 + 1e-5 * (k % 1000), 0, 0.05))
+                probe.move_to((-0.071 + 1e-6 * (k % 1000), 0, 0.05))
             except Exception as e:  # pragma: no cover - reported below
                 errors.append(e)
 

@@ -103,7 +103,7 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       as_dofs(x_new) = as_dofs(in.x) + dt * as_dofs(v_new);
       stats.solve.iterations += iterations_before;
       if (!in.has_contacts() || pass == kContactPasses || !in.contacts->update_active(x_new)) break;
-    ++stats.contact_passes;
+      ++stats.contact_passes;
     }
     stats.total_ms = ms_since(t_start);
     return stats;
