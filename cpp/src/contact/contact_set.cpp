@@ -80,7 +80,8 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
     const Pose& start = links[j].seen ? links[j].last_pose : end;
     for (Index i : nodes_) {
       const Vec3 xi = x.col(i);
-      const Vec3 a = start.to_local(xi), b = end.to_local(xi + dt * v.col(i) + dt * dt * gravity);
+      const Vec3 free_flight = xi + dt * v.col(i) + dt * dt * gravity;
+      const Vec3 a = start.to_local(xi), b = end.to_local(free_flight);
       Vec3 normal;
       const double distance_at_a = obstacle.local_distance(a, normal);
       const double lambda = previous_.empty() ? 0.0 : carried(i, j);
@@ -105,6 +106,9 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
       c.slip_origin = xi + dt * obstacle_velocity;
       c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
       c.multiplier = lambda;
+      // An impact: a new contact that closes at more than 1 % of the node's size per step
+      // (not a resting node that touches again under gravity's dt^2 g).
+      c.impact = lambda == 0 && c.normal.dot(v.col(i) - obstacle_velocity) * dt < -1e-2 * node_sizes_[i];
       // The normal force friction scales with: the one the contact carried over the last
       // step (none in a contact's first step: a prediction from the penetration the step
       // would have without contact overestimates an impact's force by the stiffness scale).
@@ -236,6 +240,12 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
     if (single) single->add_to_diagonal_block(c.node, scale * h);
     else A->block(A->diagonal_block(c.node)) += scale * h;
   }
+}
+
+bool ContactSet::has_impacts() const {
+  for (const Contact& c : contacts_)
+    if (c.impact) return true;
+  return false;
 }
 
 bool ContactSet::update_active(const Nodes& x_new) {

@@ -168,7 +168,13 @@ SolveStats PCG::iterate(const BlockSparseMatrix* A, const SinglePrecisionSymmetr
   const double b_norm = b.norm();
   if (!std::isfinite(b_norm))  // also catches entries so large that the norm overflows
     throw SolverFailure("PCG: the right-hand side is not finite or too large to solve in double precision");
-  const double tolerance = settings_.tolerance_or(preconditioner_->default_tolerance());
+  double tolerance = settings_.tolerance_or(preconditioner_->default_tolerance());
+  int max_iterations = settings_.max_iterations;
+  if (requested_tolerance_ > 0) {  // request_accuracy: this solve only
+    tolerance = std::min(tolerance, requested_tolerance_);
+    max_iterations = std::max(max_iterations, requested_iterations_);
+    requested_tolerance_ = 0;
+  }
   if (b_norm == 0) {
     x.setZero();
     return {0, 0.0, true, tolerance};
@@ -188,7 +194,7 @@ SolveStats PCG::iterate(const BlockSparseMatrix* A, const SinglePrecisionSymmetr
   p_ = z_;
   double rz = dot(r_, z_);
   int it = 0;
-  while (it < settings_.max_iterations) {
+  while (it < max_iterations) {
     multiply(A, single, p_, q_);
     const double pq = dot(p_, q_);
     if (!(pq > 0))

@@ -68,6 +68,7 @@ struct Contact {
   double friction_force = 0;  // mu N, N lagged: the multiplier carried into the step [N]
   double slip_width = 0;      // eps [m] of the smoothed friction
   bool active = true;         // false: released by the linearised step (update_active)
+  bool impact = false;        // new, and closing fast (has_impacts)
 };
 
 class ContactSet {
@@ -108,6 +109,9 @@ class ContactSet {
   // node that touches without load (a side against a wall) ends within an inexact solve's
   // noise of its plane, and would flip from pass to pass.
   bool update_active(const Nodes& x_new);
+  // Whether a contact new in this step (no force carried) closes at more than 1 % of its
+  // node's size per step relative to the obstacle (an impact, a tool pushed in fast).
+  bool has_impacts() const;
 
   // After a step ending at x_new: the multipliers for the next step, and the force each
   // contact exerts on the body there (normal and friction), per contact.

@@ -59,6 +59,11 @@ class LinearSolver {
   // Simulation::step keeps what the solves of a call change and would make the next call's
   // answers differ (a preconditioner's rotation warm starts, a factor refreshed), and
   // restores it when the call fails: the state is then that of a twin that never made it.
+  // The next solve (only) aims at least at this relative residual, with at least this many
+  // iterations allowed: for a caller that decides something from the answer (the contact
+  // active set at an impact), where the step's usual loose tolerance would decide by noise.
+  // Direct solvers are exact anyway.
+  virtual void request_accuracy(double /*tolerance*/, int /*max_iterations*/) {}
   virtual void save_state() {}
   virtual void restore_state() {}
 };

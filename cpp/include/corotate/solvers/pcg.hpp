@@ -59,12 +59,18 @@ class PCG final : public LinearSolver {
     return settings_.single_precision_products() ? preconditioner_->assembly_target() : nullptr;
   }
   SolveStats solve_single_precision(const Vec& b, Vec& x) override;
+  void request_accuracy(double tolerance, int max_iterations) override {
+    requested_tolerance_ = tolerance;
+    requested_iterations_ = max_iterations;
+  }
   // CG reads A through multiply_symmetric only: the preconditioner decides.
   bool needs_lower_blocks() const override { return preconditioner_->needs_lower_blocks(); }
   void save_state() override { preconditioner_->save_state(); }
   void restore_state() override { preconditioner_->restore_state(); }
 
  private:
+  double requested_tolerance_ = 0;  // request_accuracy, for the next solve (0: none)
+  int requested_iterations_ = 0;
   PCGSettings settings_;
   std::unique_ptr<Preconditioner> preconditioner_;
   void precondition();  // z = preconditioned r, with the fixed DOFs decoupled
