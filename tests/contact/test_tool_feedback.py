@@ -55,6 +55,22 @@ def test_predicted_force_matches_the_simulation_within_2_percent():
     np.testing.assert_allclose(stiffness, stiffness.T, atol=1e-9 * abs(stiffness[2, 2]))
 
 
+def test_a_tool_lifted_away_lets_go():
+    """A contact that carried force holds in the linearised step only while it pushes: the
+    tissue springs back towards its rest shape rather than following a tool lifted away."""
+    sim, probe, feedback = pressed_block()
+    for step in range(1, 21):
+        probe.move_to((0, 0, CUBE + RADIUS - 2.5e-4 * step))  # 5 mm in
+        sim.step()
+    top = np.argmin(np.linalg.norm(sim.body.mesh.points - (0, 0, CUBE), axis=1))
+    dented = sim.positions[top, 2]
+    assert dented < CUBE - 4e-3
+    probe.move_to((0, 0, CUBE + 0.05))  # lifted 3.5 cm in one frame
+    sim.step()
+    assert not sim.contacts["nodes"].size or not sim.contact_force(probe).any()
+    assert dented < sim.positions[top, 2] < CUBE + 1e-3  # springs back, not pulled up
+
+
 def test_no_contact_no_feedback():
     sim, probe, feedback = pressed_block()
     probe.move_to((0, 0, 0.5))

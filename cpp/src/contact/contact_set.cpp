@@ -252,11 +252,11 @@ bool ContactSet::update_active(const Nodes& x_new) {
   bool changed = false;
   for (Contact& c : contacts_) {
     const double gap = c.normal.dot(x_new.col(c.node) - c.point);
-    // Only a contact new in this step (no carried force) is released: one that carried force
-    // into the step rests on the surface, where a solve's round-off flips the sign of its
-    // tiny gap from pass to pass; its multiplier lets go over the next step if it pulls.
+    // Released where its linear force pulls (gap > lambda / k) and the node ended clearly off
+    // the plane: a contact resting on the surface ends within an inexact solve's noise of
+    // it, where the sign of its force would flip from pass to pass.
     const double noise = 1e-3 * node_sizes_[c.node];
-    const bool active = c.active ? c.multiplier > 0 || gap <= noise : gap < -noise;
+    const bool active = c.active ? gap <= std::max(c.multiplier / c.stiffness, noise) : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;
   }

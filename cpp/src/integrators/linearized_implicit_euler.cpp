@@ -32,8 +32,9 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
     // elements gives them and A, with no matrix-vector product.
     // With contacts, the linearised step treats every contact as holding (its force is
     // linear in the step): a contact whose force at the answer pulls (a node of a body that
-    // lands on its bottom, whose own path crossed the floor too) is released and the step
-    // solved again, a few times at most (contact_set.hpp, update_active).
+    // lands on its bottom, whose own path crossed the floor too; a tool lifted away) is
+    // released and the step solved again, a few times at most (contact_set.hpp,
+    // update_active).
     stats.solve.iterations = 0;
     for (int pass = 0;; ++pass) {
       const int iterations_before = stats.solve.iterations;

@@ -103,11 +103,11 @@ class ContactSet {
   void add_linearized(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix* A,
                       SinglePrecisionSymmetric* single) const;
 
-  // For the linearised step's active set: releases the active contacts new in this step whose
-  // node ended outside (their linear force pulls), and takes back released ones whose node
-  // ended inside; returns whether any changed. Both by more than 1e-3 of the node's size: a
-  // node that touches without load (a side against a wall) ends within an inexact solve's
-  // noise of its plane, and would flip from pass to pass.
+  // For the linearised step's active set: releases the active contacts whose linear force
+  // at x_new pulls (a tool lifted away, a landing node whose path crossed the floor too), and
+  // takes back released ones whose node ended inside; returns whether any changed. Both only
+  // beyond 1e-3 of the node's size: a node that rests on or touches a surface ends within an
+  // inexact solve's noise of it, and would flip from pass to pass.
   bool update_active(const Nodes& x_new);
   // Whether a contact new in this step (no force carried) closes at more than 1 % of its
   // node's size per step relative to the obstacle (an impact, a tool pushed in fast).
