@@ -58,7 +58,7 @@ def test_predicted_force_matches_the_simulation_within_2_percent():
 def test_a_tool_lifted_away_lets_go():
     """A contact that carried force holds in the linearised step only while it pushes: the
     tissue springs back towards its rest shape rather than following a tool lifted away."""
-    sim, probe, feedback = pressed_block()
+    sim, probe, _ = pressed_block()
     for step in range(1, 21):
         probe.move_to((0, 0, CUBE + RADIUS - 2.5e-4 * step))  # 5 mm in
         sim.step()
