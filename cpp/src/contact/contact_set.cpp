@@ -205,14 +205,6 @@ void ContactSet::add_stiffness(const Nodes& y, double scale, BlockSparseMatrix& 
   }
 }
 
-void ContactSet::add_stiffness(const Nodes& y, double scale, SinglePrecisionSymmetric& A) const {
-  Mat3 h;
-  for (const Contact& c : contacts_) {
-    force_of(c, y.col(c.node), &h);
-    A.add_to_diagonal_block(c.node, scale * h);
-  }
-}
-
 void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix* A,
                                 SinglePrecisionSymmetric* single) const {
   Mat3 h;

@@ -95,7 +95,6 @@ class ContactSet {
   double energy(const Nodes& y) const;
   void add_forces(const Nodes& y, Nodes& f) const;
   void add_stiffness(const Nodes& y, double scale, BlockSparseMatrix& A) const;
-  void add_stiffness(const Nodes& y, double scale, SinglePrecisionSymmetric& A) const;
   // For the linearised step: each active contact's normal force as the linear spring
   // (lambda - k g(y)) n, A += scale k n n^T, whatever the sign (the active set, update_active,
   // releases contacts that pull); friction as the damping of its secant at the slip of y
