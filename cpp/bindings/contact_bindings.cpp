@@ -5,8 +5,11 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 #include "conversions.hpp"
 #include "corotate/contact/obstacle.hpp"
+#include "corotate/contact/triangle_mesh.hpp"
 #include "corotate/simulation.hpp"
 
 namespace py = pybind11;
@@ -52,6 +55,43 @@ void bind_contact(py::module_& m) {
       .def(py::init<double, double>(), py::arg("radius"), py::arg("half_length"));
   py::class_<Cylinder, Obstacle, std::shared_ptr<Cylinder>>(m, "Cylinder")
       .def(py::init<double, double>(), py::arg("radius"), py::arg("half_length"));
+
+  py::class_<TriangleMesh, Obstacle, std::shared_ptr<TriangleMesh>>(m, "TriangleMesh")
+      .def(py::init([](const PointsIn& vertices, const CellsIn& triangles) {
+             const Connectivity c = cells_from(triangles);
+             if (c.cols() != 3) throw InvalidInput("triangles must have shape (m, 3)");
+             Triangles t(c.rows());
+             for (Index k = 0; k < c.rows(); ++k) t[k] = {c(k, 0), c(k, 1), c(k, 2)};
+             return std::make_shared<TriangleMesh>(nodes_from(vertices, "vertices"), t);
+           }),
+           py::arg("vertices"), py::arg("triangles"))
+      .def(
+          "set_vertices",
+          [](TriangleMesh& mesh, const PointsIn& vertices, std::optional<PointsIn> velocities) {
+            const Nodes x = nodes_from(vertices, "vertices");
+            if (!velocities) return mesh.set_vertices(x);
+            const Nodes v = nodes_from(*velocities, "velocities");
+            mesh.set_vertices(x, &v);
+          },
+          py::arg("vertices"), py::arg("velocities") = py::none(),
+          "Move the vertices (own frame), with their velocities (zero if None).")
+      .def_property_readonly("vertices",
+                             [](const TriangleMesh& mesh) { return Eigen::MatrixXd(mesh.vertices().transpose()); })
+      .def_property_readonly("triangles",
+                             [](const TriangleMesh& mesh) {
+                               const Triangles t = mesh.triangles();
+                               Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> out(t.size(), 3);
+                               for (size_t k = 0; k < t.size(); ++k) out.row(k) << t[k][0], t[k][1], t[k][2];
+                               return out;
+                             })
+      .def(
+          "distribute",
+          [](const TriangleMesh& mesh, const PointsIn& points, const PointsIn& forces) {
+            return Eigen::MatrixXd(
+                mesh.distribute(nodes_from(points, "points"), nodes_from(forces, "forces")).transpose());
+          },
+          py::arg("points"), py::arg("forces"),
+          "Spread point forces (m, 3) at points (m, 3) (own frame) onto the vertices (n, 3) by barycentric weights.");
 
   py::class_<ContactSettings>(m, "ContactSettings")
       .def(py::init([](double stiffness_scale, double friction_velocity) {

@@ -26,7 +26,7 @@ from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
 from .mesh import SUPPORTED_CELL_TYPES, Mesh, beam, box, cell_types, read_mesh, rectangle, write_mesh
 from .meshing import tetrahedralize
-from .obstacles import Box, Capsule, Cylinder, Plane, Sphere
+from .obstacles import Box, Capsule, Cylinder, Plane, Sphere, TriangleMesh
 from .output import TimeSeriesWriter
 from .simulation import Simulation
 from .solvers import PCG, Direct
@@ -59,6 +59,7 @@ __all__ = [
     "Box",
     "Capsule",
     "Cylinder",
+    "TriangleMesh",
     "SimulationWarning",
     "EmbeddedSurface",
     "read_surface",

@@ -7,7 +7,7 @@ import numpy
 import numpy.typing
 import scipy.sparse
 import typing
-__all__: list[str] = ['BlockSparseMatrix', 'Box', 'Capsule', 'ContactSettings', 'Cylinder', 'FloatingFrame', 'ForceModel', 'HalfSpace', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'Obstacle', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'Sphere', 'SurfaceEmbedding', 'TimeStepPolicy', 'ToolFeedback', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'inertial_load_coefficients', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
+__all__: list[str] = ['BlockSparseMatrix', 'Box', 'Capsule', 'ContactSettings', 'Cylinder', 'FloatingFrame', 'ForceModel', 'HalfSpace', 'HapticFeedback', 'IntegratorKind', 'IntegratorSettings', 'MassSpring', 'Material', 'ModalIntegrator', 'Obstacle', 'OnUnstable', 'PCGSettings', 'PartialRotation', 'PreconditionerKind', 'RegionMaterials', 'Simulation', 'Sphere', 'SurfaceEmbedding', 'TimeStepPolicy', 'ToolFeedback', 'TriangleMesh', 'available_threads', 'build_info', 'cell_type_names', 'cell_types', 'cell_volumes', 'centre_gradients', 'cloth_grid', 'constitutive_law', 'critical_time_step', 'cube_lattice', 'element_matrices', 'explicit_integrator_names', 'extract_rotation', 'failure_policy_names', 'feedback_method_names', 'have_openmp', 'inertial_load_coefficients', 'integrator_names', 'law_parameters', 'least_squares_rotation', 'material_of_law', 'model_names', 'models_for_cell_type', 'on_unstable_names', 'polar_rotation', 'preconditioner_names', 'project_nodal_forces', 'recover_displacements', 'rotate_displacements', 'set_threads', 'shape_functions', 'solve_linear', 'springs_from_mesh', 'structured_box', 'threads', 'time_step_policy_names']
 class PreconditionerKind:
     """
     Members:
@@ -510,6 +510,23 @@ class Capsule(Obstacle):
         ...
 class Cylinder(Obstacle):
     def __init__(self, radius: typing.SupportsFloat | typing.SupportsIndex, half_length: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+class TriangleMesh(Obstacle):
+    def __init__(self, vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64]) -> None:
+        ...
+    def distribute(self, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], forces: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Spread point forces (m, 3) at points (m, 3) (own frame) onto the vertices (n, 3) by barycentric weights.
+        """
+    def set_vertices(self, vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], velocities: typing.Annotated[numpy.typing.ArrayLike, numpy.float64] | None = None) -> None:
+        """
+        Move the vertices (own frame), with their velocities (zero if None).
+        """
+    @property
+    def triangles(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 3]"]:
+        ...
+    @property
+    def vertices(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
 class ContactSettings:
     def __init__(self, stiffness_scale: typing.SupportsFloat | typing.SupportsIndex = 100.0, friction_velocity: typing.SupportsFloat | typing.SupportsIndex = 0.001) -> None:

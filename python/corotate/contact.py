@@ -26,7 +26,7 @@ class ContactMembers:
     _node_list: Any  # DrivenBody's
 
     def add_obstacle(self, obstacle: Obstacle, friction: float = 0.0) -> None:
-        """Let the body touch `obstacle` (Plane, Sphere, Box, Capsule, Cylinder) with Coulomb
+        """Let the body touch `obstacle` (Plane, Sphere, Box, Capsule, Cylinder, TriangleMesh) with Coulomb
         friction coefficient `friction` (>= 0).
 
         The contact nodes are the body's surface nodes unless ``contact_nodes`` was set. The
@@ -38,7 +38,8 @@ class ContactMembers:
         """
         if not isinstance(obstacle, Obstacle):
             raise TypeError(
-                f"obstacle must be a corotate Plane, Sphere, Box, Capsule or Cylinder, not {type(obstacle).__name__}"
+                "obstacle must be a corotate Plane, Sphere, Box, Capsule, Cylinder or TriangleMesh, not "
+                f"{type(obstacle).__name__}"
             )
         mu = real_number(friction, "friction")
         if not self._contact_nodes_set:

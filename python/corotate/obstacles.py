@@ -1,5 +1,5 @@
-"""Rigid obstacles a body touches: a ground plane and analytic shapes (sphere, box, capsule,
-cylinder), static or moved between frames (a tool held by a haptic device).
+"""Rigid obstacles a body touches: a ground plane, analytic shapes (sphere, box, capsule,
+cylinder) and closed triangle meshes, static or moved between frames (a tool held by a haptic device).
 
 Each is an exact signed distance in the C++ core (contact/obstacle.hpp); add one to a
 simulation with ``Simulation.add_obstacle``. One obstacle may touch several simulations.
@@ -10,6 +10,7 @@ saw it to the new pose (so its velocity, which friction feels, is the displaceme
 
 from __future__ import annotations
 
+import os
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -138,3 +139,80 @@ class Cylinder(Obstacle):
     def __init__(self, a: ArrayLike, b: ArrayLike, radius: float) -> None:
         center, rotation, half = _segment_pose(a, b)
         super().__init__(_core.Cylinder(real_number(radius, "radius"), half), center, rotation)
+
+
+class TriangleMesh(Obstacle):
+    """A closed triangle mesh (a tool or a fixture of any shape, or another body's surface).
+
+    vertices   (n, 3) in the mesh's own frame, placed in the world by `position` and
+               `rotation` (like the other shapes: ``move_to`` moves it rigidly)
+    triangles  (m, 3) vertex indices
+
+    The distance is exact (nearest triangle by a bounding-volume hierarchy) and signed by the
+    angle-weighted pseudonormals, which needs a closed, consistently oriented surface:
+    ValueError names a non-finite vertex, an index out of range, a zero-area triangle, an edge
+    with one triangle (a hole) or more than two, or two triangles wound against each other.
+    An inward-wound mesh is turned outward. Self-intersection is not checked.
+
+    ``set_vertices`` moves the vertices themselves (an animated or deforming surface, with
+    velocities that friction and the contact's path feel).
+    """
+
+    def __init__(
+        self,
+        vertices: ArrayLike,
+        triangles: ArrayLike,
+        position: ArrayLike = (0.0, 0.0, 0.0),
+        rotation: ArrayLike | None = None,
+    ) -> None:
+        v = np.asarray(vertices, dtype=float)
+        if v.ndim != 2 or v.shape[1] != 3:
+            raise ValueError(f"vertices must have shape (n, 3), got {v.shape}")
+        t = np.asarray(triangles)
+        if t.size and not np.issubdtype(t.dtype, np.integer):
+            raise ValueError(f"triangles must hold integer vertex indices, got {t.dtype}")
+        super().__init__(_core.TriangleMesh(v, t), position, rotation)
+
+    @classmethod
+    def read(
+        cls, path: str | os.PathLike[str], position: ArrayLike = (0.0, 0.0, 0.0), rotation: ArrayLike | None = None
+    ) -> TriangleMesh:
+        """The closed surface in a file (STL, OBJ, PLY, OFF, VTU...; read as
+        :func:`corotate.read_surface` reads it: quads are split). FileNotFoundError or
+        ValueError for a missing or unreadable file, one without triangles, or a surface that is
+        not closed (see the class)."""
+        from .embedding import read_surface
+
+        surface = read_surface(path)
+        try:
+            return cls(surface.points, surface.cells, position, rotation)
+        except ValueError as e:
+            raise ValueError(f"{path}: {e}") from e
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """(n, 3) the vertices in the mesh's own frame (a copy)."""
+        return np.asarray(self._core.vertices)
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """(m, 3) the triangles, wound outward."""
+        return np.asarray(self._core.triangles)
+
+    def set_vertices(self, vertices: ArrayLike, velocities: ArrayLike | None = None) -> None:
+        """Move the vertices ((n, 3), own frame) with their velocities ((n, 3) [m/s], zero if
+        None): over the next step a body sees the surface move from where it was by the
+        velocities times dt to here. ValueError for a wrong shape or non-finite values (the
+        mesh is then unchanged)."""
+        v = np.asarray(vertices, dtype=float)
+        u = None if velocities is None else np.asarray(velocities, dtype=float)
+        self._core.set_vertices(v, u)
+
+    def distribute(self, points: ArrayLike, forces: ArrayLike) -> np.ndarray:
+        """(n, 3) vertex forces equivalent to point `forces` (m, 3) at world `points` (m, 3)
+        on the surface: each split by the barycentric weights of the nearest surface point
+        (world frame in and out)."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        f = np.asarray(forces, dtype=float).reshape(-1, 3)
+        r, t = self.rotation, self.position
+        return np.asarray(self._core.distribute((p - t) @ r, f @ r)) @ r.T

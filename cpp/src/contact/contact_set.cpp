@@ -81,8 +81,14 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
     for (Index i : nodes_) {
       const Vec3 xi = x.col(i);
       const Vec3 free_flight = xi + dt * v.col(i) + dt * dt * gravity;
-      const Vec3 a = start.to_local(xi), b = end.to_local(free_flight);
-      Vec3 normal;
+      Vec3 a = start.to_local(xi), normal;
+      const Vec3 b = end.to_local(free_flight);
+      // A deforming surface (another body's) is taken at the end of the step; relative to
+      // it the node starts displaced by the surface's own motion near it over the step.
+      if (obstacle.deforms()) {
+        const double d = obstacle.local_distance(a, normal);
+        a += dt * obstacle.local_velocity(a - d * normal);
+      }
       const double distance_at_a = obstacle.local_distance(a, normal);
       const double lambda = previous_.empty() ? 0.0 : carried(i, j);
       const double t = first_touch(obstacle, a, b, distance_at_a);
@@ -102,7 +108,8 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
       c.obstacle = j;
       c.normal = end.rotation * normal;
       c.point = end.to_world(surface_local);
-      const Vec3 obstacle_velocity = (c.point - start.to_world(surface_local)) / dt;
+      const Vec3 obstacle_velocity =
+          (c.point - start.to_world(surface_local)) / dt + end.rotation * obstacle.local_velocity(surface_local);
       c.slip_origin = xi + dt * obstacle_velocity;
       c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
       c.multiplier = lambda;

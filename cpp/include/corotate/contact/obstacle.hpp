@@ -33,6 +33,11 @@ class Obstacle {
   virtual ~Obstacle() = default;
   // Signed distance of a point in the shape's own frame; writes the outward unit normal.
   virtual double local_distance(const Vec3& p, Vec3& normal) const = 0;
+  // A shape whose surface moves by more than its pose (a triangle mesh whose vertices are
+  // moved: another body's surface) reports the velocity of its surface point nearest to p,
+  // in its own frame; rigid shapes move only with their pose.
+  virtual bool deforms() const { return false; }
+  virtual Vec3 local_velocity(const Vec3& /*p*/) const { return Vec3::Zero(); }
   // "sphere of radius 0.1" and the like, for messages.
   virtual std::string describe() const = 0;
 
