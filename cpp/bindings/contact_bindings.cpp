@@ -131,13 +131,17 @@ void bind_contact(py::module_& m) {
             const auto& cs = set.contacts();
             const Index m = static_cast<Index>(cs.size());
             Eigen::Matrix<Index, Eigen::Dynamic, 1> nodes(m);
-            Eigen::VectorXi obstacles(m);
-            Eigen::MatrixXd normals(m, 3), points(m, 3), forces(m, 3);
+            Eigen::VectorXi obstacles(m), parts(m);
+            Eigen::Matrix<Index, Eigen::Dynamic, 3, Eigen::RowMajor> partners(m, 3);
+            Eigen::MatrixXd normals(m, 3), points(m, 3), forces(m, 3), weights(m, 3);
             Eigen::VectorXd multipliers(m), friction_limits(m);
             const bool committed = set.forces().cols() == m;
             for (Index k = 0; k < m; ++k) {
               nodes[k] = cs[k].node;
-              obstacles[k] = cs[k].obstacle;
+              obstacles[k] = cs[k].obstacle >= 0 ? cs[k].obstacle : -1;
+              parts[k] = cs[k].obstacle < 0 ? -1 - cs[k].obstacle : -1;
+              for (int j = 0; j < 3; ++j) partners(k, j) = cs[k].partners[j];
+              weights.row(k) = cs[k].weights.transpose();
               normals.row(k) = cs[k].normal.transpose();
               points.row(k) = cs[k].point.transpose();
               forces.row(k) = committed ? Vec3(set.forces().col(k)) : Vec3(Vec3::Zero());
@@ -147,6 +151,9 @@ void bind_contact(py::module_& m) {
             py::dict d;
             d["nodes"] = nodes;
             d["obstacles"] = obstacles;
+            d["parts"] = parts;
+            d["partners"] = partners;
+            d["weights"] = weights;
             d["normals"] = normals;
             d["points"] = points;
             d["forces"] = forces;
@@ -154,9 +161,50 @@ void bind_contact(py::module_& m) {
             d["friction_limits"] = friction_limits;
             return d;
           },
-          "The last step's contacts: nodes, obstacle indices, the planes (normals, points), the force each exerted "
-          "on the body at the step's end (m, 3), the normal multipliers carried to the next step and the friction "
-          "limits mu N of the step (N: the multiplier carried into it).")
+          "The last step's contacts: nodes, obstacle indices (-1 for a part), part indices (-1 for an obstacle), "
+          "a part's triangle (partners, -1 for an obstacle) and the contact point's weights on it, the planes "
+          "(normals, points), the force each exerted on its node at the step's end (m, 3), the normal multipliers "
+          "carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).")
+      .def(
+          "set_part_contact",
+          [](Simulation& s, const CellsIn& triangles, const std::vector<int>& part_of_node, double friction) {
+            const Connectivity c = cells_from(triangles);
+            if (c.rows() > 0 && c.cols() != 3) throw InvalidInput("the surface triangles must have shape (m, 3)");
+            Triangles t(c.rows());
+            for (Index k = 0; k < c.rows(); ++k) t[k] = {c(k, 0), c(k, 1), c(k, 2)};
+            s.set_part_contact(t, part_of_node, friction);
+          },
+          py::arg("triangles"), py::arg("part_of_node"), py::arg("friction") = 0.0,
+          "Contact between the body's parts: every part's outward boundary triangles (m, 3), each node's part.")
+      .def("clear_part_contact", &Simulation::clear_part_contact)
+      .def_property_readonly("part_contact", [](const Simulation& s) { return s.contacts().has_parts(); })
+      .def_property_readonly("part_friction", [](const Simulation& s) { return s.contacts().part_friction(); })
+      .def(
+          "contact_system",
+          [](const Simulation& s, const PointsIn& positions) {
+            const Simulation::Claim claim(s, "evaluating the contact potential");
+            const Nodes y = nodes_from(positions, "positions");
+            const Index n = s.num_nodes();
+            if (y.cols() != n) throw InvalidInput("positions must have one row per node");
+            if (n > 2000) throw InvalidInput("contact_system builds a dense Hessian: at most 2000 nodes");
+            const ContactSet& set = s.contacts();
+            Nodes f = Nodes::Zero(3, n);
+            set.add_forces(y, f);
+            Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+            for (const Contact& c : set.contacts()) {
+              Mat3 h;
+              set.force_of(c, ContactSet::relative(c, y), &h);
+              const std::array<Index, 4> nodes = {c.node, c.partners[0], c.partners[1], c.partners[2]};
+              const std::array<double, 4> e = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
+              const int count = c.coupled() ? 4 : 1;
+              for (int a = 0; a < count; ++a)
+                for (int b = 0; b < count; ++b) hessian.block<3, 3>(3 * nodes[a], 3 * nodes[b]) += e[a] * e[b] * h;
+            }
+            return py::make_tuple(set.energy(y), Eigen::MatrixXd(f.transpose()), hessian);
+          },
+          py::arg("positions"),
+          "The last step's contact potential at positions (n, 3): (energy, nodal forces (n, 3), dense Hessian "
+          "(3n, 3n)), for checking against finite differences (small bodies only).")
       .def(
           "contact_potential",
           [](const Simulation& s, const PointsIn& positions) {
@@ -168,7 +216,7 @@ void bind_contact(py::module_& m) {
             Eigen::MatrixXd forces(cs.size(), 3), hessians(3 * cs.size(), 3);
             for (size_t k = 0; k < cs.size(); ++k) {
               Mat3 h;
-              const Vec3 yk = y.col(cs[k].node);
+              const Vec3 yk = ContactSet::relative(cs[k], y);
               energy += s.contacts().energy_of(cs[k], yk);
               forces.row(k) = s.contacts().force_of(cs[k], yk, &h);
               hessians.block(3 * k, 0, 3, 3) = h;

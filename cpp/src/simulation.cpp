@@ -115,7 +115,7 @@ StepInput Simulation::input() {
           attachments_,
           *solver_,
           failure_policy_ != FailurePolicy::Ignore,
-          obstacle_links_.empty() ? nullptr : &contacts_};
+          has_contact() ? &contacts_ : nullptr};
 }
 
 Index Simulation::obstacle_index(const Obstacle& obstacle) const {
@@ -162,6 +162,14 @@ void Simulation::add_obstacle(std::shared_ptr<Obstacle> obstacle, double frictio
         << -depth << " m): move the body or the obstacle apart before adding it";
     throw InvalidInput(msg.str());
   }
+  ensure_contact_properties();
+  ObstacleLink link;
+  link.obstacle = std::move(obstacle);
+  link.friction = friction;
+  obstacle_links_.push_back(std::move(link));
+}
+
+void Simulation::ensure_contact_properties() {
   if (!contacts_.has_node_properties()) {
     // Each node's share of the rest stiffness (trace / 3 of its diagonal block): with its mass
     // it sets the contact stiffness (contact_set.hpp). Once per simulation.
@@ -184,10 +192,79 @@ void Simulation::add_obstacle(std::shared_ptr<Obstacle> obstacle, double frictio
     }
     contacts_.set_node_properties(lumped_masses_, node_stiffness, node_sizes);
   }
-  ObstacleLink link;
-  link.obstacle = std::move(obstacle);
-  link.friction = friction;
-  obstacle_links_.push_back(std::move(link));
+}
+
+void Simulation::set_part_contact(const Triangles& surface, const std::vector<int>& part_of_node, double friction) {
+  const Claim claim(*this, "setting contact between parts");
+  check_friction(friction);
+  if (is_explicit(integrator_->settings().kind))
+    throw InvalidInput(std::string("contact needs an implicit integrator ('linearized' or 'newton'), not '") +
+                       integrator_->name() + "'");
+  const Index n = num_nodes();
+  if (static_cast<Index>(part_of_node.size()) != n)
+    throw InvalidInput("part_of_node must have one entry per node (" + std::to_string(n) + "), not " +
+                       std::to_string(part_of_node.size()));
+  int num_parts = 0;
+  for (int p : part_of_node) {
+    if (p < 0) throw InvalidInput("part ids must be non-negative");
+    num_parts = std::max(num_parts, p + 1);
+  }
+  if (num_parts < 2) throw InvalidInput("contact between parts needs a body of at least two parts");
+  std::vector<Triangles> local(num_parts);
+  std::vector<std::vector<Index>> nodes(num_parts);
+  std::vector<int> vertex(static_cast<size_t>(n), -1);
+  for (size_t t = 0; t < surface.size(); ++t) {
+    for (int k = 0; k < 3; ++k)
+      if (surface[t][k] < 0 || surface[t][k] >= n)
+        throw InvalidInput("surface triangle " + std::to_string(t) + " refers to node " +
+                           std::to_string(surface[t][k]) + ", out of range [0, " + std::to_string(n) + ")");
+    const int p = part_of_node[surface[t][0]];
+    if (part_of_node[surface[t][1]] != p || part_of_node[surface[t][2]] != p)
+      throw InvalidInput("surface triangle " + std::to_string(t) + " joins two parts");
+    std::array<int, 3> corners;
+    for (int k = 0; k < 3; ++k) {
+      const Index node = surface[t][k];
+      if (vertex[node] < 0) {
+        vertex[node] = static_cast<int>(nodes[p].size());
+        nodes[p].push_back(node);
+      }
+      corners[k] = vertex[node];
+    }
+    local[p].push_back(corners);
+  }
+  std::vector<PartSurface> parts(num_parts);
+  for (int p = 0; p < num_parts; ++p) {
+    Nodes vertices(3, static_cast<Index>(nodes[p].size()));
+    for (Index k = 0; k < vertices.cols(); ++k) vertices.col(k) = x_.col(nodes[p][k]);
+    try {
+      parts[p].mesh = std::make_shared<TriangleMesh>(vertices, local[p]);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput("the surface of part " + std::to_string(p) + " is not a closed surface: " + e.what());
+    }
+    parts[p].nodes = std::move(nodes[p]);
+  }
+  // A part that starts inside another would be thrown out by the contact force at the first
+  // step: refuse, naming how deep.
+  const double size = (x_.rowwise().maxCoeff() - x_.rowwise().minCoeff()).norm();
+  Vec3 normal;
+  for (Index i : contacts_.nodes())
+    for (int p = 0; p < num_parts; ++p) {
+      if (p == part_of_node[i]) continue;
+      const double d = parts[p].mesh->local_distance(x_.col(i), normal);
+      if (d < -1e-9 * size) {
+        std::ostringstream msg;
+        msg << "node " << i << " of part " << part_of_node[i] << " starts inside part " << p << " (by " << -d
+            << " m): move the parts apart";
+        throw InvalidInput(msg.str());
+      }
+    }
+  ensure_contact_properties();
+  contacts_.set_parts(part_of_node, std::move(parts), friction);
+}
+
+void Simulation::clear_part_contact() {
+  const Claim claim(*this, "clearing contact between parts");
+  contacts_.set_parts({}, {}, 0);
 }
 
 void Simulation::remove_obstacle(const Obstacle& obstacle) {
@@ -263,6 +340,7 @@ void Simulation::set_fixed_nodes(const std::vector<Index>& nodes) {
   }
   fixed_ = FixedDofs(model_->pattern(), flags);
   fixed_nodes_ = nodes;
+  contacts_.set_fixed_nodes(n, nodes);
   integrator_->constraints_changed(fixed_);
   solver_->constraints_changed(fixed_);
 }
@@ -296,9 +374,10 @@ std::unique_ptr<Integrator> Simulation::make_attached_integrator(const Integrato
 
 void Simulation::set_settings(const IntegratorSettings& settings) {
   const Claim claim(*this, "changing the settings");
-  if (is_explicit(settings.kind) && !obstacle_links_.empty())
+  if (is_explicit(settings.kind) && has_contact())
     throw InvalidInput(std::string("contact needs an implicit integrator ('linearized' or 'newton'), not '") +
-                       integrator_name(settings.kind) + "': remove the obstacles first");
+                       integrator_name(settings.kind) +
+                       "': remove the obstacles (and the contact between parts) first");
   integrator_ = make_attached_integrator(settings);
   solver_->reset();
   rebuild_gravity_forces();
@@ -367,7 +446,7 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
   model_->save_caches();
   energy_check_backup_ = static_cast<const EnergyBaseline&>(energy_check_);  // its scalars
   energy_check_took_load_ = false;
-  const bool contact = !obstacle_links_.empty();
+  const bool contact = has_contact();
   if (contact) {  // (copies of a few vectors: what a failed call restores)
     obstacle_links_backup_ = obstacle_links_;
     contacts_backup_ = contacts_;
@@ -449,10 +528,10 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
 StaticResult Simulation::solve_static(const StaticSettings& settings, const Nodes* prescribed,
                                       const std::function<void(int done)>& after_each_load_step) {
   const Claim claim(*this, "solve_static");
-  if (!obstacle_links_.empty())
+  if (has_contact())
     throw InvalidInput(
         "solve_static does not include contact: step the simulation to rest instead (mass damping speeds it up), or "
-        "remove the obstacles");
+        "remove the obstacles (and the contact between parts)");
   if (!attachments_.empty())
     throw InvalidInput(
         "solve_static does not include attachment springs: detach the nodes first (or fix them and prescribe their "

@@ -28,6 +28,7 @@ from .mesh import SUPPORTED_CELL_TYPES, Mesh, beam, box, cell_types, read_mesh, 
 from .meshing import tetrahedralize
 from .obstacles import Box, Capsule, Cylinder, Plane, Sphere, TriangleMesh
 from .output import TimeSeriesWriter
+from .scene import Scene
 from .simulation import Simulation
 from .solvers import PCG, Direct
 from .surfaces import boundary_surface, loop_subdivide, sphere_surface, split_at_centroids
@@ -49,6 +50,7 @@ __all__ = [
     "PCG",
     "Direct",
     "Simulation",
+    "Scene",
     "MassSpringBody",
     "SpringGeometry",
     "ExplicitSimulation",

@@ -358,9 +358,15 @@ class Simulation:
         """
         Attach nodes to targets ((m, 3)) by zero-rest-length springs (stiffness: m values [N/m]).
         """
+    def clear_part_contact(self) -> None:
+        ...
     def contact_potential(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple[float, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
         The last step's contact potentials at positions (n, 3): (energy, force per contact (m, 3), Hessian per contact (3m, 3)), for checking them against finite differences.
+        """
+    def contact_system(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> tuple[float, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The last step's contact potential at positions (n, 3): (energy, nodal forces (n, 3), dense Hessian (3n, 3n)), for checking against finite differences (small bodies only).
         """
     def damping_forces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
@@ -398,6 +404,10 @@ class Simulation:
         ...
     def set_friction(self, obstacle: Obstacle, friction: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
+    def set_part_contact(self, triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], part_of_node: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], friction: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        Contact between the body's parts: every part's outward boundary triangles (m, 3), each node's part.
+        """
     def set_solver(self, solver: str, pcg: PCGSettings = ...) -> None:
         ...
     def solve_static(self, load_steps: typing.SupportsInt | typing.SupportsIndex = 1, tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-08, max_iterations: typing.SupportsInt | typing.SupportsIndex = 100, prescribed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64] | None = None, progress: collections.abc.Callable | None = None) -> dict:
@@ -427,7 +437,7 @@ class Simulation:
     @property
     def contacts(self) -> dict:
         """
-        The last step's contacts: nodes, obstacle indices, the planes (normals, points), the force each exerted on the body at the step's end (m, 3), the normal multipliers carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).
+        The last step's contacts: nodes, obstacle indices (-1 for a part), part indices (-1 for an obstacle), a part's triangle (partners, -1 for an obstacle) and the contact point's weights on it, the planes (normals, points), the force each exerted on its node at the step's end (m, 3), the normal multipliers carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).
         """
     @property
     def external_forces(self) -> numpy.ndarray:
@@ -460,6 +470,12 @@ class Simulation:
         ...
     @property
     def obstacles(self) -> list:
+        ...
+    @property
+    def part_contact(self) -> bool:
+        ...
+    @property
+    def part_friction(self) -> float:
         ...
     @property
     def positions(self) -> numpy.ndarray:

@@ -30,10 +30,17 @@ def _csr(triple: tuple[np.ndarray, np.ndarray, np.ndarray], n_dofs: int) -> sp.c
 _IMMUTABLE = "a Body is immutable after construction (simulations step copies of its model); create a new Body"
 
 
-def _read_only_copy(mesh: Mesh) -> Mesh:
-    """A copy of mesh (checked afresh: the caller may have changed it since it was built)
-    whose arrays cannot be written."""
-    copy = Mesh(mesh.points, mesh.cells, mesh.cell_type, mesh.cell_regions)
+def _read_only_copy(mesh: Mesh, check: bool = True) -> Mesh:
+    """A copy of mesh (checked afresh: the caller may have changed it since it was built;
+    check=False for a mesh the library built from checked parts) whose arrays cannot be
+    written."""
+    if check:
+        copy = Mesh(mesh.points, mesh.cells, mesh.cell_type, mesh.cell_regions)
+    else:
+        from .mesh_checks import _unchecked
+
+        copy = _unchecked(Mesh, mesh.points.copy(), mesh.cells.copy(), mesh.cell_type)
+        copy.cell_regions = None if mesh.cell_regions is None else mesh.cell_regions.copy()
     copy.points.flags.writeable = False
     copy.cells.flags.writeable = False
     return copy
@@ -88,7 +95,11 @@ class Body(SettableOnly):
         thickness: float | None = None,
         project_psd: bool = False,
         regions: ArrayLike | None = None,
+        *,
+        _parts_checked: bool = False,
     ) -> None:
+        # _parts_checked (internal): a Scene's joined mesh, each of whose parts was checked
+        # as a Body's mesh; joined, their nodes may coincide where they touch.
         if not isinstance(mesh, Mesh):
             raise TypeError("mesh must be a corotate.Mesh (see corotate.read_mesh, corotate.box)")
         by_region = materials_by_region(material)
@@ -108,7 +119,7 @@ class Body(SettableOnly):
             raise ValueError(f"thickness applies to triangle sheets only, not to {mesh.cell_type!r} cells")
         if project_psd and model not in HYPERELASTIC_MODELS:
             raise ValueError(f"project_psd applies to the hyperelastic models {HYPERELASTIC_MODELS}, not {model!r}")
-        self._mesh = _read_only_copy(mesh)
+        self._mesh = _read_only_copy(mesh, check=not _parts_checked)
         self._materials = by_region
         self._regions = cell_regions
         self._model = model

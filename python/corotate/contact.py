@@ -116,5 +116,67 @@ class ContactMembers:
             forces = forces[np.asarray(c["obstacles"]) == index]
         return forces.sum(axis=0)
 
+    # -- contact between the body's parts -------------------------------------------------
+
+    def set_part_contact(self, friction: float = 0.0) -> None:
+        """Let the body's parts (the separate pieces of its mesh: several bodies simulated as
+        one, see ``corotate.Scene``) touch each other, with Coulomb friction `friction`.
+
+        Each part's contact nodes (default: the surface's) cannot enter another part's closed
+        surface; the force a node receives acts back on the corners of the triangle it
+        presses on (momentum is kept), and the coupling between them is part of the implicit
+        solve. ValueError (nothing changed) for a mesh of one piece, a part whose boundary is
+        not a closed surface, an explicit integrator, a bad friction, or parts that start
+        inside each other."""
+        from .surfaces import boundary_triangles
+
+        mu = real_number(friction, "friction")
+        if not self._contact_nodes_set:
+            self._sim.contact_nodes = self._surface_nodes()
+            self._contact_nodes_set = True
+        self._sim.set_part_contact(boundary_triangles(self._body.mesh), self.parts.tolist(), mu)
+
+    def clear_part_contact(self) -> None:
+        """The parts pass through each other again."""
+        self._sim.clear_part_contact()
+
+    @property
+    def part_contact(self) -> bool:
+        """Whether the body's parts touch each other (``set_part_contact``)."""
+        return bool(self._sim.part_contact)
+
+    @property
+    def parts(self) -> np.ndarray:
+        """(n,) the part of each node: the connected pieces of the mesh, numbered in the order
+        of their first node (a ``Scene``'s bodies, in the order given)."""
+        return _parts(self._body.mesh.cells, self._body.n_nodes)
+
+    def part_contact_force(self, part: int, other: int) -> np.ndarray:
+        """(3,) the force part `other` exerted on part `part` at the end of the last step
+        (through both parts' contacts: the forces on part's nodes, less those part's surface
+        gave other's nodes)."""
+        c = self._sim.contacts
+        nodes_part = self.parts[np.asarray(c["nodes"], dtype=np.int64)]
+        touched = np.asarray(c["parts"])
+        forces = np.asarray(c["forces"]).reshape(-1, 3)
+        on_part = forces[(nodes_part == part) & (touched == other)].sum(axis=0)
+        on_other = forces[(nodes_part == other) & (touched == part)].sum(axis=0)
+        return on_part - on_other
+
     def _surface_nodes(self) -> np.ndarray:
         return np.unique(self._body.mesh.boundary_faces())
+
+
+def _parts(cells: np.ndarray, n_nodes: int) -> np.ndarray:
+    """Connected pieces of a mesh (cells sharing a node are one piece), by first node."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    rows = np.repeat(np.arange(len(cells)), cells.shape[1])
+    incidence = sp.csr_matrix((np.ones(cells.size), (cells.ravel(), rows)), shape=(n_nodes, len(cells)))
+    _, labels = connected_components(incidence @ incidence.T, directed=False)
+    # Renumber by first node, so that parts follow the node order.
+    _, first = np.unique(labels, return_index=True)
+    order = np.empty(len(first), dtype=np.int64)
+    order[np.argsort(first)] = np.arange(len(first))
+    return order[labels]

@@ -129,6 +129,16 @@ class Simulation {
   // The nodes that can touch (default: all; the Python layer sets the surface's). Validated.
   void set_contact_nodes(const std::vector<Index>& nodes);
   void set_contact_settings(const ContactSettings& settings);
+  // Contact between the body's parts (its mesh's separate pieces: several bodies simulated
+  // as one): part_of_node gives each node's part (0..P-1, P >= 2), surface the outward
+  // triangles of every part's closed boundary (body node indices), friction the Coulomb
+  // coefficient between any two parts. Each part's contact nodes touch the others' surfaces
+  // (contact/contact_set.hpp). Throws InvalidInput (nothing changed) for bad ids, a triangle
+  // joining two parts, a part surface that is not closed, an explicit integrator, or a
+  // contact node that starts inside another part.
+  void set_part_contact(const Triangles& surface, const std::vector<int>& part_of_node, double friction);
+  void clear_part_contact();
+  bool has_contact() const { return !obstacle_links_.empty() || contacts_.has_parts(); }
   // The contacts of the last step and the force each exerted on the body at its end.
   const ContactSet& contacts() const { return contacts_; }
 
@@ -183,6 +193,7 @@ class Simulation {
   // The loud-failure checks of one step (see above); marks st, counts, throws under Raise.
   void check_health(StepStats& st);
   Index obstacle_index(const Obstacle& obstacle) const;  // -1 when not added
+  void ensure_contact_properties();  // each node's mass, stiffness and size for ContactSet
   void detect_contacts(double dt);
 
   std::unique_ptr<ForceModel> model_;

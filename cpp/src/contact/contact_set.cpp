@@ -60,6 +60,95 @@ double first_touch(const Obstacle& obstacle, const Vec3& a, const Vec3& b, doubl
 
 }  // namespace
 
+void ContactSet::set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction) {
+  part_of_node_ = std::move(part_of_node);
+  parts_ = std::move(parts);
+  vertex_of_node_.assign(part_of_node_.size(), -1);
+  for (const PartSurface& part : parts_)
+    for (size_t k = 0; k < part.nodes.size(); ++k) vertex_of_node_[part.nodes[k]] = static_cast<int>(k);
+  part_friction_ = friction;
+  contacts_.clear();
+  previous_.clear();
+}
+
+void ContactSet::set_fixed_nodes(Index num_nodes, const std::vector<Index>& fixed) {
+  fixed_.assign(static_cast<size_t>(num_nodes), 0);
+  for (Index i : fixed) fixed_[static_cast<size_t>(i)] = 1;
+}
+
+template <class Carried>
+void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& start, const Pose& end, double friction,
+                          const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried,
+                          const PartSurface* part) {
+  const Vec3 xi = x.col(i);
+  const Vec3 free_flight = xi + dt * v.col(i) + dt * dt * gravity;
+  Vec3 a = start.to_local(xi), normal;
+  const Vec3 b = end.to_local(free_flight);
+  // A deforming surface (a part's, or a mesh whose vertices move) is taken at the end of
+  // the step; relative to it the node starts displaced by the surface's own motion near it.
+  if (surface.deforms()) {
+    const double d = surface.local_distance(a, normal);
+    a += dt * surface.local_velocity(a - d * normal);
+  }
+  const double distance_at_a = surface.local_distance(a, normal);
+  const double lambda = carried(i, id);
+  const double t = first_touch(surface, a, b, distance_at_a);
+  // A new contact needs a path that enters: one that starts on the surface and moves
+  // along it or away (a side resting against a wall) touches without pushing, and as a
+  // contact it would only cost the active set a second solve.
+  if (lambda == 0 && (t < 0 || (t == 0 && distance_at_a > -touch_tolerance(a, b) &&
+                                surface.local_distance(b, normal) >= -touch_tolerance(a, b))))
+    return;
+  // The tangent plane where the path first touches (at its start when it does not touch
+  // but the contact carried force: the node rests on the surface).
+  const Vec3 p = a + std::max(t, 0.0) * (b - a);
+  const double d = surface.local_distance(p, normal);
+  const Vec3 surface_local = p - d * normal;
+  Contact c;
+  c.node = i;
+  c.obstacle = id;
+  c.normal = end.rotation * normal;
+  c.point = end.to_world(surface_local);
+  const Vec3 surface_velocity =
+      (c.point - start.to_world(surface_local)) / dt + end.rotation * surface.local_velocity(surface_local);
+  if (part) {
+    // The point moves with its triangle: the gap and the slip are of r = y_i - sum w_j y_j.
+    std::array<int, 3> corners;
+    static_cast<const TriangleMesh&>(surface).nearest(surface_local, corners, c.weights);
+    for (int k = 0; k < 3; ++k) c.partners[k] = part->nodes[corners[k]];
+    // On another part's edge or corner the surface's normal is a cone: a face that rests on
+    // an edge is pushed along its own normal, not along the edge's bisector (which would
+    // push it off sideways, without friction for ever). So there the node's own surface
+    // normal decides, where it lies within the cone's reach.
+    const bool on_face = c.weights.minCoeff() > 1e-9;
+    const int own = vertex_of_node_[i];
+    if (!on_face && own >= 0) {
+      const Vec3 facing = -parts_[part_of_node_[i]].mesh->vertex_normal(own);
+      if (facing.dot(c.normal) > 0.5) c.normal = facing;
+    }
+    c.anchor = Vec3::Zero();
+    c.slip_origin = relative(c, x);
+  } else {
+    c.anchor = c.point;
+    c.slip_origin = xi + dt * surface_velocity;
+  }
+  c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
+  c.multiplier = lambda;
+  // An impact: a new contact that closes at more than 1 % of the node's size per step
+  // (not a resting node that touches again under gravity's dt^2 g).
+  c.impact = lambda == 0 && c.normal.dot(v.col(i) - surface_velocity) * dt < -1e-2 * node_sizes_[i];
+  // The normal force friction scales with: the one the contact carried over the last
+  // step (none in a contact's first step: a prediction from the penetration the step
+  // would have without contact overestimates an impact's force by the stiffness scale).
+  c.friction_force = friction * lambda;
+  // The stuck regime's width: friction_velocity * dt, or wider where that would make the
+  // friction stiffer (2 mu N / eps) than the normal contact (k): a sticking node then
+  // creeps by at most about the normal contact's own penetration, and the system keeps
+  // the conditioning of the normal contact.
+  c.slip_width = std::max(settings_.friction_velocity * dt, c.friction_force / c.stiffness);
+  contacts_.push_back(c);
+}
+
 void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x,
                         const Nodes& v, const Vec3& gravity, double dt) {
   // The multipliers of the last step's contacts, by node, to carry over.
@@ -75,58 +164,27 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
   };
 
   for (int j = 0; j < static_cast<int>(links.size()); ++j) {
-    const Obstacle& obstacle = *links[j].obstacle;
     const Pose& end = poses[j];
     const Pose& start = links[j].seen ? links[j].last_pose : end;
-    for (Index i : nodes_) {
-      const Vec3 xi = x.col(i);
-      const Vec3 free_flight = xi + dt * v.col(i) + dt * dt * gravity;
-      Vec3 a = start.to_local(xi), normal;
-      const Vec3 b = end.to_local(free_flight);
-      // A deforming surface (another body's) is taken at the end of the step; relative to
-      // it the node starts displaced by the surface's own motion near it over the step.
-      if (obstacle.deforms()) {
-        const double d = obstacle.local_distance(a, normal);
-        a += dt * obstacle.local_velocity(a - d * normal);
+    for (Index i : nodes_)
+      consider(i, *links[j].obstacle, j, start, end, links[j].friction, x, v, gravity, dt, carried, nullptr);
+  }
+  if (!parts_.empty()) {
+    // Each part's surface where its free flight takes it, moving there with that velocity.
+    for (const PartSurface& part : parts_) {
+      Nodes ends(3, static_cast<Index>(part.nodes.size())), velocities(3, ends.cols());
+      for (Index k = 0; k < ends.cols(); ++k) {
+        velocities.col(k) = v.col(part.nodes[k]) + dt * gravity;
+        ends.col(k) = x.col(part.nodes[k]) + dt * velocities.col(k);
       }
-      const double distance_at_a = obstacle.local_distance(a, normal);
-      const double lambda = previous_.empty() ? 0.0 : carried(i, j);
-      const double t = first_touch(obstacle, a, b, distance_at_a);
-      // A new contact needs a path that enters: one that starts on the surface and moves
-      // along it or away (a side resting against a wall) touches without pushing, and as a
-      // contact it would only cost the active set a second solve.
-      if (lambda == 0 && (t < 0 || (t == 0 && distance_at_a > -touch_tolerance(a, b) &&
-                                    obstacle.local_distance(b, normal) >= -touch_tolerance(a, b))))
-        continue;
-      // The tangent plane where the path first touches (at its start when it does not touch
-      // but the contact carried force: the node rests on the surface).
-      const Vec3 p = a + std::max(t, 0.0) * (b - a);
-      const double d = obstacle.local_distance(p, normal);
-      const Vec3 surface_local = p - d * normal;
-      Contact c;
-      c.node = i;
-      c.obstacle = j;
-      c.normal = end.rotation * normal;
-      c.point = end.to_world(surface_local);
-      const Vec3 obstacle_velocity =
-          (c.point - start.to_world(surface_local)) / dt + end.rotation * obstacle.local_velocity(surface_local);
-      c.slip_origin = xi + dt * obstacle_velocity;
-      c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
-      c.multiplier = lambda;
-      // An impact: a new contact that closes at more than 1 % of the node's size per step
-      // (not a resting node that touches again under gravity's dt^2 g).
-      c.impact = lambda == 0 && c.normal.dot(v.col(i) - obstacle_velocity) * dt < -1e-2 * node_sizes_[i];
-      // The normal force friction scales with: the one the contact carried over the last
-      // step (none in a contact's first step: a prediction from the penetration the step
-      // would have without contact overestimates an impact's force by the stiffness scale).
-      c.friction_force = links[j].friction * lambda;
-      // The stuck regime's width: friction_velocity * dt, or wider where that would make the
-      // friction stiffer (2 mu N / eps) than the normal contact (k): a sticking node then
-      // creeps by at most about the normal contact's own penetration, and the system keeps
-      // the conditioning of the normal contact.
-      c.slip_width = std::max(settings_.friction_velocity * dt, c.friction_force / c.stiffness);
-      contacts_.push_back(c);
+      part.mesh->set_vertices(ends, &velocities);
     }
+    const Pose identity;
+    for (Index i : nodes_)
+      for (int p = 0; p < static_cast<int>(parts_.size()); ++p)
+        if (p != part_of_node_[i])
+          consider(i, *parts_[p].mesh, -1 - p, identity, identity, part_friction_, x, v, gravity, dt, carried,
+                   &parts_[p]);
   }
   for (const Contact& c : previous_) first_contact_[c.node] = -1;  // back to all -1 (no allocation)
   // Sorted by node, so that the next step finds a node's contacts side by side.
@@ -142,20 +200,33 @@ double friction_potential(double s, double eps) {
 }
 }  // namespace
 
-double ContactSet::energy_of(const Contact& c, const Vec3& y) const {
+Vec3 ContactSet::relative(const Contact& c, const Nodes& y) {
+  Vec3 r = y.col(c.node);
+  if (c.coupled())
+    for (int k = 0; k < 3; ++k) r -= c.weights[k] * y.col(c.partners[k]);
+  return r;
+}
+
+void ContactSet::add_force(const Contact& c, const Vec3& f, Nodes& out) {
+  out.col(c.node) += f;
+  if (c.coupled())
+    for (int k = 0; k < 3; ++k) out.col(c.partners[k]) -= c.weights[k] * f;
+}
+
+double ContactSet::energy_of(const Contact& c, const Vec3& r) const {
   if (!c.active) return 0;
-  const double push = std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(y - c.point));
+  const double push = std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(r - c.anchor));
   double e = push * push / (2 * c.stiffness);
   if (c.friction_force > 0) {
-    const Vec3 slip = y - c.slip_origin;
+    const Vec3 slip = r - c.slip_origin;
     const Vec3 u = slip - c.normal.dot(slip) * c.normal;
     e += c.friction_force * friction_potential(u.norm(), c.slip_width);
   }
   return e;
 }
 
-Vec3 ContactSet::normal_force(const Contact& c, const Vec3& y, Mat3* hessian) {
-  const double push = std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(y - c.point));
+Vec3 ContactSet::normal_force(const Contact& c, const Vec3& r, Mat3* hessian) {
+  const double push = std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(r - c.anchor));
   if (hessian) {
     if (push > 0) *hessian = c.stiffness * c.normal * c.normal.transpose();
     else hessian->setZero();
@@ -163,9 +234,9 @@ Vec3 ContactSet::normal_force(const Contact& c, const Vec3& y, Mat3* hessian) {
   return push * c.normal;
 }
 
-Vec3 ContactSet::friction(const Contact& c, const Vec3& y, Mat3* hessian) {
+Vec3 ContactSet::friction(const Contact& c, const Vec3& r, Mat3* hessian) {
   const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
-  const Vec3 u = tangential * (y - c.slip_origin);
+  const Vec3 u = tangential * (r - c.slip_origin);
   const double s = u.norm(), eps = c.slip_width, mu_n = c.friction_force;
   if (s >= eps) {  // sliding: mu N against the slip
     const Vec3 dir = u / s;
@@ -180,15 +251,15 @@ Vec3 ContactSet::friction(const Contact& c, const Vec3& y, Mat3* hessian) {
   return -slope * u;
 }
 
-Vec3 ContactSet::force_of(const Contact& c, const Vec3& y, Mat3* hessian) const {
+Vec3 ContactSet::force_of(const Contact& c, const Vec3& r, Mat3* hessian) const {
   if (!c.active) {
     if (hessian) hessian->setZero();
     return Vec3::Zero();
   }
-  Vec3 f = normal_force(c, y, hessian);
+  Vec3 f = normal_force(c, r, hessian);
   if (c.friction_force > 0) {
     Mat3 h;
-    f += friction(c, y, hessian ? &h : nullptr);
+    f += friction(c, r, hessian ? &h : nullptr);
     if (hessian) *hessian += h;
   }
   return f;
@@ -196,32 +267,52 @@ Vec3 ContactSet::force_of(const Contact& c, const Vec3& y, Mat3* hessian) const 
 
 double ContactSet::energy(const Nodes& y) const {
   double e = 0;
-  for (const Contact& c : contacts_) e += energy_of(c, y.col(c.node));
+  for (const Contact& c : contacts_) e += energy_of(c, relative(c, y));
   return e;
 }
 
 void ContactSet::add_forces(const Nodes& y, Nodes& f) const {
-  for (const Contact& c : contacts_) f.col(c.node) += force_of(c, y.col(c.node), nullptr);
+  for (const Contact& c : contacts_) add_force(c, force_of(c, relative(c, y), nullptr), f);
+}
+
+void ContactSet::add_blocks(const Contact& c, const Mat3& h, size_t k, BlockSparseMatrix* A,
+                            SinglePrecisionSymmetric* single) const {
+  const auto add = [&](Index node, double scale) {
+    if (single) single->add_to_diagonal_block(node, scale * h);
+    else A->block(A->diagonal_block(node)) += scale * h;
+  };
+  add(c.node, 1);
+  if (!c.coupled()) return;
+  for (int j = 0; j < 3; ++j) add(c.partners[j], c.weights[j] * c.weights[j]);
+  coupling_[k] = h;
+  coupled_ = true;
 }
 
 void ContactSet::add_stiffness(const Nodes& y, double scale, BlockSparseMatrix& A) const {
   Mat3 h;
-  for (const Contact& c : contacts_) {
-    force_of(c, y.col(c.node), &h);
-    A.block(A.diagonal_block(c.node)) += scale * h;
+  coupling_.resize(contacts_.size());
+  coupled_ = false;
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const Contact& c = contacts_[k];
+    force_of(c, relative(c, y), &h);
+    add_blocks(c, scale * h, k, &A, nullptr);
   }
 }
 
 void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSparseMatrix* A,
                                 SinglePrecisionSymmetric* single) const {
   Mat3 h;
-  for (const Contact& c : contacts_) {
+  coupling_.resize(contacts_.size());
+  coupled_ = false;
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const Contact& c = contacts_[k];
     if (!c.active) continue;
-    const Vec3 yc = y.col(c.node);
+    const Vec3 r = relative(c, y);
     // The normal force as the linear spring it is while the contact holds, (lambda - k g) n
-    // with g = n . (y - p): its max(0, .) is the active set's business (update_active), so
-    // a contact whose node the prediction puts outside still holds where the answer is inside.
-    f.col(c.node) += (c.multiplier - c.stiffness * c.normal.dot(yc - c.point)) * c.normal;
+    // with g = n . (r - anchor): its max(0, .) is the active set's business (update_active),
+    // so a contact whose node the prediction puts outside still holds where the answer is
+    // inside.
+    Vec3 force = (c.multiplier - c.stiffness * c.normal.dot(r - c.anchor)) * c.normal;
     h = c.stiffness * c.normal * c.normal.transpose();
     if (c.friction_force > 0) {
       // Friction as the damping of its secant at the slip the node starts the step with:
@@ -230,14 +321,35 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
       // times mu N and overshoots); the secant never exceeds mu N by more than the slip
       // grows in the step, and it only ever dissipates.
       const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
-      const Vec3 u = tangential * (yc - c.slip_origin);
+      const Vec3 u = tangential * (r - c.slip_origin);
       const double s = u.norm(), eps = c.slip_width;
       const double damping = c.friction_force * (s >= eps ? 1 / s : 2 / eps - s / (eps * eps));
-      f.col(c.node) -= damping * u;
+      force -= damping * u;
       h += damping * tangential;
     }
-    if (single) single->add_to_diagonal_block(c.node, scale * h);
-    else A->block(A->diagonal_block(c.node)) += scale * h;
+    add_force(c, force, f);
+    add_blocks(c, scale * h, k, A, single);
+  }
+}
+
+void ContactSet::multiply_add(const Vec& x, Vec& y) const {
+  if (!coupled_) return;
+  const auto free = [&](Index node) { return fixed_.empty() || !fixed_[static_cast<size_t>(node)]; };
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const Contact& c = contacts_[k];
+    if (!c.active || !c.coupled()) continue;
+    // The off-diagonal blocks e_a e_b H (a != b) of e e^T (x) H, e = (1, -w_1, -w_2, -w_3),
+    // between free nodes (fixed rows and columns are identity rows of the system).
+    const std::array<Index, 4> nodes = {c.node, c.partners[0], c.partners[1], c.partners[2]};
+    const std::array<double, 4> e = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
+    Vec3 sum = Vec3::Zero();
+    for (int a = 0; a < 4; ++a)
+      if (free(nodes[a])) sum += e[a] * x.segment<3>(3 * nodes[a]);
+    const Vec3 hs = coupling_[k] * sum;
+    for (int a = 0; a < 4; ++a) {
+      if (!free(nodes[a])) continue;
+      y.segment<3>(3 * nodes[a]) += e[a] * (hs - e[a] * (coupling_[k] * x.segment<3>(3 * nodes[a])));
+    }
   }
 }
 
@@ -250,7 +362,7 @@ bool ContactSet::has_impacts() const {
 bool ContactSet::update_active(const Nodes& x_new) {
   bool changed = false;
   for (Contact& c : contacts_) {
-    const double gap = c.normal.dot(x_new.col(c.node) - c.point);
+    const double gap = c.normal.dot(relative(c, x_new) - c.anchor);
     // Released where its linear force pulls (gap > lambda / k) and the node ended clearly off
     // the plane: a contact resting on the surface ends within an inexact solve's noise of
     // it, where the sign of its force would flip from pass to pass.
@@ -266,9 +378,9 @@ void ContactSet::commit(const Nodes& x_new) {
   forces_.resize(3, static_cast<Index>(contacts_.size()));
   for (size_t k = 0; k < contacts_.size(); ++k) {
     Contact& c = contacts_[k];
-    const Vec3 y = x_new.col(c.node);
-    forces_.col(static_cast<Index>(k)) = force_of(c, y, nullptr);
-    c.multiplier = c.active ? std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(y - c.point)) : 0.0;
+    const Vec3 r = relative(c, x_new);
+    forces_.col(static_cast<Index>(k)) = force_of(c, r, nullptr);
+    c.multiplier = c.active ? std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(r - c.anchor)) : 0.0;
   }
 }
 

@@ -235,6 +235,16 @@ void TriangleMesh::set_vertices(const Nodes& vertices, const Nodes* velocities) 
   std::atomic_store(&geometry_, next);
 }
 
+void TriangleMesh::nearest(const Vec3& p, std::array<int, 3>& corners, Vec3& weights) const {
+  const auto g = geometry();
+  int t;
+  const TrianglePoint q = nearest_point(*g, p, t);
+  corners = (*g->triangles)[t];
+  weights = q.barycentric;
+}
+
+Vec3 TriangleMesh::vertex_normal(int vertex) const { return geometry()->vertex_normals[vertex]; }
+
 Nodes TriangleMesh::vertices() const { return geometry()->vertices; }
 
 Triangles TriangleMesh::triangles() const { return *geometry()->triangles; }

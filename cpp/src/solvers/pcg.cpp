@@ -135,6 +135,7 @@ void PCG::precondition() {
 void PCG::multiply(const BlockSparseMatrix* A, const SinglePrecisionSymmetric* single, const Vec& v, Vec& out) const {
   if (single) single->multiply(v, out);
   else A->multiply_symmetric(v, out);
+  if (coupling_) coupling_->multiply_add(v, out);
 }
 
 SolveStats PCG::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {

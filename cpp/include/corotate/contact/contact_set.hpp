@@ -27,14 +27,29 @@
 // Newton integrator minimises them with the body's incremental potential and the linearised
 // one evaluates them at y = x + dt v like the body's forces.
 //
-// Only diagonal blocks of the system change: contact rebuilds no pattern, factorization or
-// preconditioner hierarchy.
+// Parts of one body (its mesh's separate pieces: several bodies simulated together) touch
+// each other the same way: a node of one part against the closed surface of another, taken
+// where the part's own free flight puts it at the step's end (the part's surface is a
+// TriangleMesh whose vertices move). The contact point then moves with the triangle it lies
+// on: with barycentric weights w_j of the triangle's corners, the gap is
+// g(y) = n . (y_i - sum_j w_j y_j), and every potential above is a function of the relative
+// position r = y_i - sum_j w_j y_j (friction of its slip: r - r at the step's start). The
+// force on the node is f, on the corners -w_j f (equal and opposite: momentum is kept), and
+// the Hessian is e e^T (x) H with e = (1, -w_1, -w_2, -w_3): its diagonal blocks go into the
+// system matrix, its coupling blocks (between nodes that share no element) into the solve as
+// a SystemCoupling (solvers/linear_solver.hpp), not into the sparse pattern.
+//
+// Only diagonal blocks of the system's pattern change: contact rebuilds no pattern,
+// factorization or preconditioner hierarchy.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
 #include "corotate/contact/obstacle.hpp"
+#include "corotate/contact/triangle_mesh.hpp"
+#include "corotate/solvers/linear_solver.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
@@ -57,21 +72,31 @@ struct ObstacleLink {
   bool seen = false;  // last_pose valid (no motion is assumed over the first step)
 };
 
+// The closed surface of one part of the body, as the other parts see it.
+struct PartSurface {
+  std::shared_ptr<TriangleMesh> mesh;  // vertices: the part's surface nodes, in this order
+  std::vector<Index> nodes;            // mesh vertex -> body node
+};
+
 // One active contact of the step.
 struct Contact {
   Index node = 0;
-  int obstacle = 0;           // index into the links
-  Vec3 normal, point;         // the obstacle's tangent plane at its current pose
-  Vec3 slip_origin;           // x + dt v_obstacle: where a node that sticks ends the step
+  int obstacle = 0;           // index into the links; -1 - p for part p of the body
+  std::array<Index, 3> partners = {-1, -1, -1};  // a part's triangle: its corner nodes
+  Vec3 weights = Vec3::Zero();                   // and the contact point's weights on them
+  Vec3 normal, point;         // the tangent plane at the obstacle's current pose
+  Vec3 anchor;                // gap = n . (r - anchor): the point (obstacle), 0 (part)
+  Vec3 slip_origin;           // r of a node that sticks at the step's end: x + dt v_obstacle
   double stiffness = 0;       // k [N/m]
   double multiplier = 0;      // lambda [N]
   double friction_force = 0;  // mu N, N lagged: the multiplier carried into the step [N]
   double slip_width = 0;      // eps [m] of the smoothed friction
   bool active = true;         // false: released by the linearised step (update_active)
   bool impact = false;        // new, and closing fast (has_impacts)
+  bool coupled() const { return partners[0] >= 0; }
 };
 
-class ContactSet {
+class ContactSet final : public SystemCoupling {
  public:
   // Per node of the body: its lumped mass, rest stiffness (k_i above) and size (the mean
   // rest distance to the nodes it shares elements with).
@@ -85,6 +110,17 @@ class ContactSet {
   void set_nodes(std::vector<Index> nodes);
   void set_settings(const ContactSettings& settings);
   const ContactSettings& settings() const { return settings_; }
+
+  // Contact between the body's parts: part_of_node (one id per node, 0..P-1) and each
+  // part's closed surface; friction between any two parts. Empty parts: none.
+  void set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction);
+  bool has_parts() const { return !parts_.empty(); }
+  const std::vector<PartSurface>& parts() const { return parts_; }
+  const std::vector<int>& part_of_node() const { return part_of_node_; }
+  double part_friction() const { return part_friction_; }
+  // The fixed nodes: the coupling leaves their rows and columns alone (they are identity
+  // rows of the system).
+  void set_fixed_nodes(Index num_nodes, const std::vector<Index>& fixed);
 
   // The step's contacts from the state at its start (see above); poses: each link's current
   // pose, read once.
@@ -120,16 +156,45 @@ class ContactSet {
   // Multipliers by (node, obstacle) carried from step to step; cleared by reset().
   void reset();
 
-  // One contact's potential, force and Hessian (optional) at its node's position y.
-  double energy_of(const Contact& c, const Vec3& y) const;
-  Vec3 force_of(const Contact& c, const Vec3& y, Mat3* hessian) const;
+  // One contact's potential, force on its node and Hessian (optional) at the relative
+  // position r (the node's position for an obstacle; see relative()).
+  double energy_of(const Contact& c, const Vec3& r) const;
+  Vec3 force_of(const Contact& c, const Vec3& r, Mat3* hessian) const;
+  // r = y_i - sum_j w_j y_j (y_i for an obstacle's contact).
+  static Vec3 relative(const Contact& c, const Nodes& y);
+
+  // Whether this step has contacts between parts, whose coupling blocks the solve needs
+  // (set by add_stiffness and add_linearized: the blocks of the last one called).
+  bool has_coupling() const { return coupled_; }
+  // y += C x: the Hessian's blocks between a node and the corners it touches, and between
+  // the corners (scaled as in the last add_stiffness / add_linearized).
+  void multiply_add(const Vec& x, Vec& y) const override;
 
  private:
   // The two parts of force_of (the Hessian, when asked, is set, not added).
   static Vec3 normal_force(const Contact& c, const Vec3& y, Mat3* hessian);
   static Vec3 friction(const Contact& c, const Vec3& y, Mat3* hessian);
 
+  // Adds e_a e_b H to the diagonal blocks of A (or single) for the contact's nodes, and
+  // keeps H for the coupling.
+  void add_blocks(const Contact& c, const Mat3& h, size_t k, BlockSparseMatrix* A,
+                  SinglePrecisionSymmetric* single) const;
+  // The forces f on the node and -w_j f on the corners.
+  static void add_force(const Contact& c, const Vec3& f, Nodes& out);
+  // One contact of node i against a surface, if its path touches it (detect()).
+  template <class Carried>
+  void consider(Index i, const Obstacle& surface, int id, const Pose& start, const Pose& end, double friction,
+                const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried,
+                const PartSurface* part);
+
   std::vector<Index> nodes_;
+  std::vector<int> part_of_node_;
+  std::vector<int> vertex_of_node_;  // a node's vertex on its part's surface (-1: none)
+  std::vector<PartSurface> parts_;
+  double part_friction_ = 0;
+  std::vector<char> fixed_;                 // per node
+  mutable std::vector<Mat3> coupling_;      // per contact: H of the last assembly (scaled)
+  mutable bool coupled_ = false;
   Vec masses_, node_stiffness_, node_sizes_;
   ContactSettings settings_;
   std::vector<Contact> contacts_, previous_;  // this step's; the last step's (detect())

@@ -43,6 +43,12 @@ class TriangleMesh final : public Obstacle {
   Nodes vertices() const;
   Triangles triangles() const;  // outward oriented (possibly reversed from the input)
 
+  // The triangle nearest to p (own frame): its corners (vertex indices) and the barycentric
+  // weights of the nearest point on it.
+  void nearest(const Vec3& p, std::array<int, 3>& corners, Vec3& weights) const;
+  // The outward angle-weighted normal at a vertex (zero for a vertex no triangle uses).
+  Vec3 vertex_normal(int vertex) const;
+
   // Point forces (own frame) at points on or near the surface, spread onto the vertices by
   // the barycentric weights of each point's nearest surface point: the reaction a body's
   // contacts put on the mesh whose surface they touch.

@@ -16,6 +16,7 @@ class DirectSolver final : public LinearSolver {
   const char* backend_name() const { return cholesky_.backend_name(); }
 
  private:
+  SolveStats solve_coupled(const BlockSparseMatrix& A, const Vec& b, Vec& x);
   SparseCholesky::Matrix scalar_;
   SparseCholesky cholesky_;
   Vec residual_;

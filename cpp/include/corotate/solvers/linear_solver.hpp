@@ -25,9 +25,24 @@ inline double relative_residual(const BlockSparseMatrix& A, const Vec& b, const 
   return bn > 0 ? work.norm() / bn : work.norm();
 }
 
+// A symmetric term of the system that is not in its sparse pattern: the coupling between
+// nodes that share no element but touch (two parts of a body in contact: a node and the
+// corners of the triangle it presses on). A solve multiplies with A + C; C leaves the rows and
+// columns of fixed DOFs alone.
+class SystemCoupling {
+ public:
+  virtual ~SystemCoupling() = default;
+  virtual void multiply_add(const Vec& x, Vec& y) const = 0;  // y += C x
+};
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
+  // The next solves are of A + coupling (null: of A alone); the caller keeps it alive and
+  // clears it after its solves. Iterative solvers add it to their products; the direct
+  // solver factorizes A and iterates on the rest (CG preconditioned by that factor).
+  void set_coupling(const SystemCoupling* coupling) { coupling_ = coupling; }
+  const SystemCoupling* coupling() const { return coupling_; }
   // Forget everything cached about earlier systems (pattern, constraints or dt changed).
   virtual void reset() = 0;
   // The fixed DOFs of the systems to come changed (their rows and columns are projected out:
@@ -66,6 +81,23 @@ class LinearSolver {
   virtual void request_accuracy(double /*tolerance*/, int /*max_iterations*/) {}
   virtual void save_state() {}
   virtual void restore_state() {}
+
+ protected:
+  const SystemCoupling* coupling_ = nullptr;
+};
+
+// Sets a solver's coupling for a scope (the solves of one step) and clears it after.
+class CouplingScope {
+ public:
+  CouplingScope(LinearSolver& solver, const SystemCoupling* coupling) : solver_(solver) {
+    solver_.set_coupling(coupling);
+  }
+  ~CouplingScope() { solver_.set_coupling(nullptr); }
+  CouplingScope(const CouplingScope&) = delete;
+  CouplingScope& operator=(const CouplingScope&) = delete;
+
+ private:
+  LinearSolver& solver_;
 };
 
 }  // namespace corotate
