@@ -104,16 +104,31 @@ def _view(args: argparse.Namespace) -> int:
     from .view import InteractiveScene, Window
 
     mesh, sim, fixed, gravity, _ = _demo_simulation(args)
+    probe_radius = None
+    if args.contact:
+        # Dropped on a floor instead of clamped, and pushed by a probe that follows the mouse.
+        from .obstacles import Plane
+
+        sim.free()
+        fixed = np.zeros(0, dtype=np.int64)
+        up = -gravity / np.linalg.norm(gravity) if np.any(gravity) else np.array([0.0, 0.0, 1.0])
+        extent = float(np.ptp(mesh.points, axis=0).max())
+        lowest = float((mesh.points @ up).min())
+        sim.add_obstacle(Plane(point=(lowest - 0.1 * extent) * up, normal=up), friction=0.5)
+        probe_radius = 0.1 * extent
     surface = None
     if args.surface:
         from .embedding import EmbeddedSurface
 
         surface = EmbeddedSurface.from_file(sim.body, args.surface)
-    scene = InteractiveScene(sim, surface=surface, max_steps=args.steps_per_frame, gravity=gravity)
+    scene = InteractiveScene(
+        sim, surface=surface, max_steps=args.steps_per_frame, gravity=gravity, probe_radius=probe_radius
+    )
     print(
         f"corotate view: {mesh.n_cells} {mesh.cell_type} cells, {mesh.n_nodes} nodes, {len(fixed)} fixed"
         + (f", showing {args.surface} ({len(scene.triangles)} triangles)" if surface is not None else "")
         + f"; grab stiffness {scene.grab_stiffness:.3g} N/m"
+        + ("; dropped on a floor, Ctrl + mouse moves the probe" if args.contact else "")
     )
     window = Window(scene, backend=args.backend)
     if args.frames is None:
@@ -217,6 +232,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--frames", type=int, default=None, help="run this many frames and return instead of waiting for the window"
     )
     view.add_argument("--screenshot", help="write a PNG of the last frame to this path")
+    view.add_argument(
+        "--contact",
+        action="store_true",
+        help="drop the body (not clamped) on a floor and push it with a probe sphere that follows the mouse "
+        "while Ctrl is held; the panel shows the force on the probe",
+    )
     view.add_argument(
         "--backend",
         default="auto",

@@ -56,11 +56,11 @@ def test_stacked_cubes_carry_each_other_and_never_interpenetrate(integrator, fra
         if frame % 10 == 0 or frame < 60:  # every frame of the landing, then every tenth
             worst = max(worst, deepest_inside(sim, scene))
     assert worst < 0.01 * ELEMENT
-    # The weights carried (to 0.5 %: the upper cube creeps on the lower one below the smoothed
-    # friction's friction_velocity, and the two sides' contacts share its weight unevenly).
-    np.testing.assert_allclose(sim.contact_force(floor), [0, 0, 2 * 9.81], atol=0.005 * 2 * 9.81)
-    np.testing.assert_allclose(sim.part_contact_force(1, 0), [0, 0, 9.81], atol=0.005 * 9.81)
-    np.testing.assert_allclose(sim.part_contact_force(0, 1), [0, 0, -9.81], atol=0.005 * 9.81)
+    # The weights carried (to 1e-3: the upper cube still creeps on the lower one below the
+    # smoothed friction's friction_velocity).
+    np.testing.assert_allclose(sim.contact_force(floor), [0, 0, 2 * 9.81], atol=1e-3 * 2 * 9.81)
+    np.testing.assert_allclose(sim.part_contact_force(1, 0), [0, 0, 9.81], atol=1e-3 * 9.81)
+    np.testing.assert_allclose(sim.part_contact_force(0, 1), [0, 0, -9.81], atol=1e-3 * 9.81)
     assert np.abs(sim.velocities).max() < sim.contact_settings["friction_velocity"]
     # The upper cube rests on the lower one (its overhang drooping over the edge), not beside it.
     assert sim.positions[scene.nodes(1), 2].mean() > 1.45 * CUBE

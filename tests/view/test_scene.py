@@ -147,3 +147,32 @@ def test_corotate_view_without_the_extra_says_what_to_install(monkeypatch, capsy
     monkeypatch.setitem(sys.modules, "polyscope", None)  # as if not installed
     assert main(["view", "--frames", "1", "--cells", "1"]) == 2
     assert "corotate view needs polyscope: pip install 'corotate-fem[view]'" in capsys.readouterr().err
+
+
+def test_a_probe_following_the_mouse_pushes_the_body_and_feels_it():
+    """corotate view --contact: a cube resting on a floor, a probe swept sideways through it
+    by the mouse: the cube is pushed the probe's way, the probe feels the cube push back
+    (against its motion), and parking the probe lets go."""
+    mesh = cr.box((0.1, 0.1, 0.1), (4, 4, 4), origin=(-0.05, -0.05, 0.0))
+    sim = cr.Simulation(cr.Body(mesh, cr.Material(E=1e6, nu=0.3, density=1000.0)), dt=0.01)
+    sim.add_obstacle(cr.Plane(), friction=0.5)
+    scene = InteractiveScene(sim, probe_radius=0.03)
+    assert scene.probe.position[2] > 0.1  # parked above the body
+    scene.frame(0.05)
+    assert np.allclose(scene.probe_force, 0.0)
+    eye = np.array([0.0, 0.0, 2.0])  # looking down; the probe sweeps along x at the centre's depth
+    pushed = []
+    for x in np.linspace(-0.15, 0.03, 19):
+        scene.move_probe(eye, np.array([x, 0.0, 0.05]) - eye)
+        scene.frame(0.01)
+        pushed.append(scene.probe_force[0])
+    assert sim.positions[:, 0].mean() > 0.005  # the cube was shoved along +x
+    assert min(pushed) < -0.1  # the probe felt it push back against the sweep
+    assert "probe force" in scene.status()
+    scene.park_probe()
+    scene.frame(0.05)
+    assert np.allclose(scene.probe_force, 0.0)
+    with pytest.raises(ValueError, match="direction must not be zero"):
+        scene.move_probe(eye, (0, 0, 0))
+    with pytest.raises(ValueError, match="no probe"):
+        cantilever_scene()[1].move_probe(eye, (0, 0, -1))

@@ -215,6 +215,7 @@ class Simulation {
     bool valid = false;
     double lowest = 0;                    // the lowest total energy since the body was last driven
     long long attachments_version = -1;  // the springs of the last check (moving them drives the body)
+    bool touched = false;                // the last checked step had contacts (they did work in it)
   };
   struct EnergyCheck : EnergyBaseline {
     Nodes load;

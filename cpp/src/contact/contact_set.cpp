@@ -99,9 +99,11 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
   if (lambda == 0 && (t < 0 || (t == 0 && distance_at_a > -touch_tolerance(a, b) &&
                                 surface.local_distance(b, normal) >= -touch_tolerance(a, b))))
     return;
-  // The tangent plane where the path first touches (at its start when it does not touch
-  // but the contact carried force: the node rests on the surface).
-  const Vec3 p = a + std::max(t, 0.0) * (b - a);
+  // The tangent plane where the path first touches; where it does not touch but the contact
+  // carried force, at the path's end: a node resting against a wall, or one the obstacle
+  // left (a tool lifted or swept away within the step: at the path's start the plane would
+  // still hold the node where the tool no longer is, and push it for a step).
+  const Vec3 p = t >= 0 ? Vec3(a + t * (b - a)) : b;
   const double d = surface.local_distance(p, normal);
   const Vec3 surface_local = p - d * normal;
   Contact c;
@@ -135,8 +137,14 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
   c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
   c.multiplier = lambda;
   // An impact: a new contact that closes at more than 1 % of the node's size per step
-  // (not a resting node that touches again under gravity's dt^2 g).
-  c.impact = lambda == 0 && c.normal.dot(v.col(i) - surface_velocity) * dt < -1e-2 * node_sizes_[i];
+  // (not a resting node that touches again under gravity's dt^2 g); or any contact with a
+  // surface that moves by as much (a tool pushing or sweeping the body). Both ask the step
+  // for an accurate solve: the multiplier update lambda - k g(x_new) multiplies the solve's
+  // error in x_new by the contact stiffness, and a loose solve under a moving tool left
+  // multipliers (and reported forces) tens of times the real ones, which the next step then
+  // applied.
+  const double closing = c.normal.dot(v.col(i) - surface_velocity) * dt;
+  c.impact = (lambda == 0 && closing < -1e-2 * node_sizes_[i]) || surface_velocity.norm() * dt > 1e-2 * node_sizes_[i];
   // The normal force friction scales with: the one the contact carried over the last
   // step (none in a contact's first step: a prediction from the penetration the step
   // would have without contact overestimates an impact's force by the stiffness scale).
@@ -363,10 +371,12 @@ bool ContactSet::update_active(const Nodes& x_new) {
   bool changed = false;
   for (Contact& c : contacts_) {
     const double gap = c.normal.dot(relative(c, x_new) - c.anchor);
-    // Released where its linear force pulls (gap > lambda / k) and the node ended clearly off
-    // the plane: a contact resting on the surface ends within an inexact solve's noise of
-    // it, where the sign of its force would flip from pass to pass.
-    const double noise = 1e-3 * node_sizes_[c.node];
+    // Released where its linear force pulls (gap > lambda / k) and the node ended off the
+    // plane by more than 1e-6 of its size: a contact resting on the surface ends within the
+    // solve's noise of it, where the sign of its force would flip from pass to pass. (The band
+    // was 1e-3 of the size once: a pull of k times that, a few newtons per node, then held
+    // the trailing edge of a sliding block and the tissue a tool moved away from.)
+    const double noise = 1e-6 * node_sizes_[c.node];
     const bool active = c.active ? gap <= std::max(c.multiplier / c.stiffness, noise) : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;

@@ -1,6 +1,7 @@
 """The live scene of ``corotate view`` without a window: stepping paced to the wall clock,
-grabbing and dragging a node with the mouse through an implicit attachment, pause, reset,
-gravity on and off, and the real-time ratio. A window (view/window.py) feeds it mouse rays
+grabbing and dragging a node with the mouse through an implicit attachment, a probe sphere
+that follows the mouse and pushes the body through contact (with the force it feels),
+pause, reset, gravity on and off, and the real-time ratio. A window (view/window.py) feeds it mouse rays
 and draws what it returns; tests feed it synthetic events with no display."""
 
 from __future__ import annotations
@@ -33,6 +34,9 @@ class InteractiveScene:
                      (they move as one patch, so a soft body does not grow a spike); default
                      the mean edge length
     gravity          (3,) acceleration while gravity is on
+    probe_radius     a radius [m] adds a probe: a sphere that ``move_probe`` places on the
+                     mouse ray and that pushes the body through contact (``probe_force`` is
+                     what it feels); None (default): no probe
 
     Frames are paced to the wall clock: each frame takes as many steps as the time since the
     last frame covers (at most max_steps: a slow machine falls behind instead of stalling).
@@ -46,6 +50,7 @@ class InteractiveScene:
         grab_stiffness: float | None = None,
         gravity: ArrayLike = (0.0, 0.0, -9.81),
         grab_radius: float | None = None,
+        probe_radius: float | None = None,
     ) -> None:
         if not isinstance(max_steps, int) or max_steps < 1:
             raise ValueError(f"max_steps must be a positive integer, got {max_steps!r}")
@@ -83,6 +88,12 @@ class InteractiveScene:
         self._debt = 0.0  # wall time not yet simulated [s]
         self._frames: deque[tuple[float, float, float]] = deque(maxlen=60)  # (wall, simulated, stepping) s
         self._last_frame: float | None = None
+        self.probe: Any = None  # a corotate.Sphere following the mouse, when asked for
+        if probe_radius is not None:
+            from ..obstacles import Sphere
+
+            self.probe = Sphere(self._parking(float(probe_radius)), probe_radius)
+            sim.add_obstacle(self.probe)
 
     # --- the controls --------------------------------------------------------------------
     def set_gravity(self, on: bool) -> None:
@@ -96,9 +107,10 @@ class InteractiveScene:
         self._last_frame = None
 
     def reset(self) -> None:
-        """Back to the rest state; lets go of a grabbed node."""
+        """Back to the rest state; lets go of a grabbed node and parks the probe."""
         self.release()
         self.sim.reset()
+        self.park_probe()
         self._debt = 0.0
         self._frames.clear()
         self._last_frame = None
@@ -134,6 +146,45 @@ class InteractiveScene:
         if norm == 0:
             raise ValueError("direction must not be zero")
         self.sim.move_attachments(self._held, e + self._grab_depth * d / norm + self._offsets)
+
+    def move_probe(self, eye: ArrayLike, direction: ArrayLike) -> None:
+        """Put the probe on the mouse ray (from ``eye`` along ``direction``) as far from the
+        eye as the body's centre is: it sweeps through the body's middle as the mouse moves,
+        and the contact pushes the body aside (a fast swipe too: contact follows the probe's
+        whole path). ValueError without a probe."""
+        if self.probe is None:
+            raise ValueError("this scene has no probe (InteractiveScene(..., probe_radius=r))")
+        e = _finite_vector(eye, "eye")
+        d = _finite_vector(direction, "direction")
+        norm = np.linalg.norm(d)
+        if norm == 0:
+            raise ValueError("direction must not be zero")
+        depth = float(np.linalg.norm(self.sim.positions.mean(axis=0) - e))
+        self.probe.move_to(e + depth * d / norm)
+
+    def park_probe(self) -> None:
+        """Take the probe out of the way (above the body) at once: it is lifted out of the
+        scene and put back there, not swept there (a sweep would drag through the body)."""
+        if self.probe is not None:
+            friction = next(mu for o, mu in self.sim.obstacles if o is self.probe)
+            self.sim.remove_obstacle(self.probe)
+            self.probe.move_to(self._parking(self.probe.radius))
+            self.sim.add_obstacle(self.probe, friction)
+
+    @property
+    def probe_force(self) -> np.ndarray:
+        """(3,) the force the body exerted on the probe in the last step [N] (zero without
+        contact or without a probe)."""
+        if self.probe is None:
+            return np.zeros(3)
+        return -np.asarray(self.sim.contact_force(self.probe))
+
+    def _parking(self, radius: float) -> np.ndarray:
+        x = self.sim.positions
+        up = -self._gravity / np.linalg.norm(self._gravity) if np.any(self._gravity) else np.array([0.0, 0.0, 1.0])
+        top = float((x @ up).max())
+        centre = x.mean(axis=0)
+        return centre + (top - float(centre @ up) + 3.0 * radius + np.ptp(x, axis=0).max()) * up
 
     def release(self) -> None:
         """Let go of the grabbed node (if any)."""
@@ -187,6 +238,9 @@ class InteractiveScene:
             parts.append("PAUSED")
         if self.grabbed is not None:
             parts.append(f"dragging node {self.grabbed}")
+        if self.probe is not None:
+            force = self.probe_force
+            parts.append(f"probe force {np.linalg.norm(force):.3g} N")
         return " | ".join(parts)
 
 

@@ -20,6 +20,7 @@ import numpy as np
 from .scene import InteractiveScene
 
 HELP = "Shift + left drag: grab and pull the body.\nLeft drag: rotate, right drag: pan, wheel: zoom."
+PROBE_HELP = "Ctrl + move: the probe sphere follows the mouse and pushes the body."
 
 
 def polyscope() -> Any:
@@ -73,6 +74,12 @@ class Window:
         )
         self.mesh.set_edge_width(0.5)
         self.spring: Any = None  # the mouse spring, drawn while a node is held
+        self.probe: Any = None  # the probe sphere, drawn when the scene has one
+        if scene.probe is not None:
+            self.probe = self.ps.register_point_cloud(
+                "probe", np.asarray([scene.probe.position]), radius=scene.probe.radius, color=(0.2, 0.5, 0.9)
+            )
+            self.probe.set_radius(scene.probe.radius, relative=False)
         self.ps.set_user_callback(self.callback)
 
     def eye(self) -> np.ndarray:
@@ -93,6 +100,11 @@ class Window:
         # The camera keeps still while a node is held (and while shift asks for a grab).
         self.ps.set_do_default_mouse_interaction(self.scene.grabbed is None and not shift)
 
+    def move_probe(self, ctrl: bool, screen: tuple[float, float]) -> None:
+        """With Ctrl held, the probe follows the mouse (on the ray under the cursor)."""
+        if ctrl and self.scene.probe is not None:
+            self.scene.move_probe(self.eye(), self.ps.screen_coords_to_world_ray(screen))
+
     def panel(self) -> None:
         imgui, scene = self.imgui, self.scene
         imgui.TextUnformatted(scene.status().replace(" | ", "\n"))
@@ -105,7 +117,7 @@ class Window:
         changed, on = imgui.Checkbox("gravity", scene.gravity_on)
         if changed:
             scene.set_gravity(on)
-        imgui.TextUnformatted(HELP)
+        imgui.TextUnformatted(HELP if scene.probe is None else HELP + "\n" + PROBE_HELP)
 
     def callback(self) -> None:
         """polyscope's per-frame callback: panel, mouse, one scene frame, new positions."""
@@ -114,12 +126,15 @@ class Window:
         if self.use_mouse and not io.WantCaptureMouse:
             screen = tuple(self.imgui.GetMousePos())
             self.mouse(io.KeyShift, self.imgui.IsMouseClicked(0), self.imgui.IsMouseDown(0), screen)
+            self.move_probe(io.KeyCtrl, screen)
         self.scene.frame(self.frame_time)
         self.draw()
 
     def draw(self) -> None:
         """Hand the new positions, and the mouse spring if a node is held, to polyscope."""
         self.mesh.update_vertex_positions(np.asarray(self.scene.surface.positions))
+        if self.probe is not None:
+            self.probe.update_point_positions(np.asarray([self.scene.probe.position]))
         if self.scene.grabbed is None:
             if self.spring is not None:
                 self.spring.set_enabled(False)

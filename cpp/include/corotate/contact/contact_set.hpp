@@ -92,7 +92,7 @@ struct Contact {
   double friction_force = 0;  // mu N, N lagged: the multiplier carried into the step [N]
   double slip_width = 0;      // eps [m] of the smoothed friction
   bool active = true;         // false: released by the linearised step (update_active)
-  bool impact = false;        // new, and closing fast (has_impacts)
+  bool impact = false;        // new and closing fast, or on a moving surface (has_impacts)
   bool coupled() const { return partners[0] >= 0; }
 };
 
@@ -141,11 +141,12 @@ class ContactSet final : public SystemCoupling {
   // For the linearised step's active set: releases the active contacts whose linear force
   // at x_new pulls (a tool lifted away, a landing node whose path crossed the floor too), and
   // takes back released ones whose node ended inside; returns whether any changed. Both only
-  // beyond 1e-3 of the node's size: a node that rests on or touches a surface ends within an
+  // beyond 1e-6 of the node's size: a node that rests on or touches a surface ends within an
   // inexact solve's noise of it, and would flip from pass to pass.
   bool update_active(const Nodes& x_new);
   // Whether a contact new in this step (no force carried) closes at more than 1 % of its
-  // node's size per step relative to the obstacle (an impact, a tool pushed in fast).
+  // node's size per step relative to the obstacle (an impact, a tool pushed in fast), or
+  // any contact with a surface that moves by as much: the step then needs an accurate solve.
   bool has_impacts() const;
 
   // After a step ending at x_new: the multipliers for the next step, and the force each
