@@ -98,7 +98,9 @@ class ContactMembers:
     def contacts(self) -> dict[str, np.ndarray]:
         """The last step's contacts, one row each: "nodes", "obstacles" (indices into
         ``obstacles``), "normals" and "points" (the obstacle's tangent plane), "forces" (m, 3)
-        the force each exerted on the body at the step's end (normal and friction),
+        the force each exerted on its node in the step (normal and friction; with the
+        linearised step what it applied: a contact kept within its active set's band may pull
+        a little),
         "multipliers" (the normal force carried to the next step) and "friction_limits"
         (mu N of the step, N the multiplier carried into it: a new contact has no friction
         in its first step)."""
@@ -164,7 +166,28 @@ class ContactMembers:
         return on_part - on_other
 
     def _surface_nodes(self) -> np.ndarray:
-        return np.unique(self._body.mesh.boundary_faces())
+        """Every node on the surface: the boundary faces' corners and, for quadratic cells,
+        the mid-edge nodes of their edges (left out, they would pass through obstacles)."""
+        from .mesh import _CELL_TYPES
+
+        mesh = self._body.mesh
+        faces = mesh.boundary_faces()
+        corners = np.unique(faces)
+        facts = _CELL_TYPES[mesh.cell_type]
+        if facts["order"] == 1:
+            return corners
+        edges, first_mid = np.asarray(facts["edges"]), int(facts["num_corners"])
+        n = mesh.n_nodes
+
+        def keys(pairs: np.ndarray) -> np.ndarray:
+            pairs = np.sort(pairs, axis=1)
+            return pairs[:, 0] * n + pairs[:, 1]
+
+        around = np.stack([faces, np.roll(faces, -1, axis=1)], axis=-1).reshape(-1, 2)  # each face's edges
+        cell_edges = mesh.cells[:, edges].reshape(-1, 2)
+        on_surface = np.isin(keys(cell_edges), keys(around))
+        mids = mesh.cells[:, first_mid : first_mid + len(edges)].reshape(-1)[on_surface]
+        return np.unique(np.concatenate([corners, mids]))
 
 
 def _parts(cells: np.ndarray, n_nodes: int) -> np.ndarray:

@@ -96,3 +96,21 @@ def test_sphere_pushed_into_a_cube_from_the_side_moves_it():
     assert np.all(pushes[:, 0] >= 0)
     # ... by more than 5 mm, and the body pushes back on the probe with the opposite force.
     assert sim.positions[:, 0].min() > -0.05 + 0.005
+
+
+@pytest.mark.parametrize("element", ["tet10", "hex20"])
+def test_quadratic_cells_land_with_their_mid_edge_nodes(element):
+    """The surface's mid-edge nodes are contact nodes too: a quadratic cube dropped on the
+    floor rests with every node above it (to 1 % of an element) and the weight carried."""
+    mesh = cr.box((CUBE, CUBE, CUBE), (2, 2, 2), element=element, origin=(-CUBE / 2, -CUBE / 2, 0.02))
+    sim = cr.Simulation(cr.Body(mesh, cr.Material(E=1e5, nu=0.3, density=1000.0)), gravity=(0.0, 0.0, -9.81))
+    floor = cr.Plane()
+    sim.add_obstacle(floor)
+    surface = np.unique(mesh.boundary_faces())
+    assert len(sim.contact_nodes) > len(surface)  # the corners and the mid-edge nodes
+    deepest = 0.0
+    for _ in range(200):
+        sim.step()
+        deepest = min(deepest, sim.positions[:, 2].min())
+    assert deepest > -0.01 * CUBE / 2
+    np.testing.assert_allclose(sim.contact_force(floor), [0, 0, 9.81], atol=1e-4)

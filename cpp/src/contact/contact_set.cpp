@@ -300,6 +300,7 @@ void ContactSet::add_stiffness(const Nodes& y, double scale, BlockSparseMatrix& 
   Mat3 h;
   coupling_.resize(contacts_.size());
   coupled_ = false;
+  linearized_ = false;
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const Contact& c = contacts_[k];
     force_of(c, relative(c, y), &h);
@@ -311,7 +312,9 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
                                 SinglePrecisionSymmetric* single) const {
   Mat3 h;
   coupling_.resize(contacts_.size());
+  secant_.assign(contacts_.size(), 0.0);
   coupled_ = false;
+  linearized_ = true;
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const Contact& c = contacts_[k];
     if (!c.active) continue;
@@ -332,6 +335,7 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
       const Vec3 u = tangential * (r - c.slip_origin);
       const double s = u.norm(), eps = c.slip_width;
       const double damping = c.friction_force * (s >= eps ? 1 / s : 2 / eps - s / (eps * eps));
+      secant_[k] = damping;
       force -= damping * u;
       h += damping * tangential;
     }
@@ -371,12 +375,14 @@ bool ContactSet::update_active(const Nodes& x_new) {
   bool changed = false;
   for (Contact& c : contacts_) {
     const double gap = c.normal.dot(relative(c, x_new) - c.anchor);
-    // Released where its linear force pulls (gap > lambda / k) and the node ended off the
-    // plane by more than 1e-6 of its size: a contact resting on the surface ends within the
-    // solve's noise of it, where the sign of its force would flip from pass to pass. (The band
-    // was 1e-3 of the size once: a pull of k times that, a few newtons per node, then held
-    // the trailing edge of a sliding block and the tissue a tool moved away from.)
-    const double noise = 1e-6 * node_sizes_[c.node];
+    // Released where its linear force pulls (gap > lambda / k) and the node ended clearly off
+    // the plane: a contact resting on the surface ends within an inexact solve's noise of it,
+    // where the sign of its force would flip from pass to pass (and every flip costs a pass
+    // with an accurate solve). "Clearly" is 1e-3 of the node's size on a surface at rest, and
+    // 1e-6 where the step was solved accurately because the contact is an impact or its
+    // surface moves: there a band of 1e-3 held the tissue a tool moved away from with a pull
+    // of k times the band, a few newtons per node, for as long as they touched.
+    const double noise = (c.impact ? 1e-6 : 1e-3) * node_sizes_[c.node];
     const bool active = c.active ? gap <= std::max(c.multiplier / c.stiffness, noise) : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;
@@ -389,7 +395,16 @@ void ContactSet::commit(const Nodes& x_new) {
   for (size_t k = 0; k < contacts_.size(); ++k) {
     Contact& c = contacts_[k];
     const Vec3 r = relative(c, x_new);
-    forces_.col(static_cast<Index>(k)) = force_of(c, r, nullptr);
+    if (linearized_ && c.active) {
+      // What the linearised step applied: the linear spring (a pull too, within the active
+      // set's band) and friction's secant damping. Reported as applied, the contact forces
+      // and the momentum the body gained agree.
+      const Vec3 slip = r - c.slip_origin;
+      forces_.col(static_cast<Index>(k)) = (c.multiplier - c.stiffness * c.normal.dot(r - c.anchor)) * c.normal -
+                                           secant_[k] * (slip - c.normal.dot(slip) * c.normal);
+    } else {
+      forces_.col(static_cast<Index>(k)) = force_of(c, r, nullptr);
+    }
     c.multiplier = c.active ? std::max(0.0, c.multiplier - c.stiffness * c.normal.dot(r - c.anchor)) : 0.0;
   }
 }

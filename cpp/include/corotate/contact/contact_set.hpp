@@ -141,8 +141,9 @@ class ContactSet final : public SystemCoupling {
   // For the linearised step's active set: releases the active contacts whose linear force
   // at x_new pulls (a tool lifted away, a landing node whose path crossed the floor too), and
   // takes back released ones whose node ended inside; returns whether any changed. Both only
-  // beyond 1e-6 of the node's size: a node that rests on or touches a surface ends within an
-  // inexact solve's noise of it, and would flip from pass to pass.
+  // beyond 1e-3 of the node's size (1e-6 for an impact or a moving surface, solved
+  // accurately): a node that rests on or touches a surface ends within an inexact solve's
+  // noise of it, and would flip from pass to pass.
   bool update_active(const Nodes& x_new);
   // Whether a contact new in this step (no force carried) closes at more than 1 % of its
   // node's size per step relative to the obstacle (an impact, a tool pushed in fast), or
@@ -150,7 +151,9 @@ class ContactSet final : public SystemCoupling {
   bool has_impacts() const;
 
   // After a step ending at x_new: the multipliers for the next step, and the force each
-  // contact exerts on the body there (normal and friction), per contact.
+  // contact exerted on the body in the step (normal and friction), per contact: the
+  // potentials' forces at x_new after a Newton step, what the linearised step applied after
+  // one (its linear springs and friction's secant).
   void commit(const Nodes& x_new);
   const Nodes& forces() const { return forces_; }  // 3 x contacts(), at the last commit
 
@@ -196,6 +199,8 @@ class ContactSet final : public SystemCoupling {
   std::vector<char> fixed_;                 // per node
   mutable std::vector<Mat3> coupling_;      // per contact: H of the last assembly (scaled)
   mutable bool coupled_ = false;
+  mutable std::vector<double> secant_;      // per contact: friction's secant damping (add_linearized)
+  mutable bool linearized_ = false;         // the last assembly was add_linearized's
   Vec masses_, node_stiffness_, node_sizes_;
   ContactSettings settings_;
   std::vector<Contact> contacts_, previous_;  // this step's; the last step's (detect())
