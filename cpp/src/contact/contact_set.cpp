@@ -144,7 +144,8 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
   // multipliers (and reported forces) tens of times the real ones, which the next step then
   // applied.
   const double closing = c.normal.dot(v.col(i) - surface_velocity) * dt;
-  c.impact = (lambda == 0 && closing < -1e-2 * node_sizes_[i]) || surface_velocity.norm() * dt > 1e-2 * node_sizes_[i];
+  c.moving_surface = surface_velocity.norm() * dt > 1e-2 * node_sizes_[i];
+  c.impact = (lambda == 0 && closing < -1e-2 * node_sizes_[i]) || c.moving_surface;
   // The normal force friction scales with: the one the contact carried over the last
   // step (none in a contact's first step: a prediction from the penetration the step
   // would have without contact overestimates an impact's force by the stiffness scale).
@@ -379,10 +380,11 @@ bool ContactSet::update_active(const Nodes& x_new) {
     // the plane: a contact resting on the surface ends within an inexact solve's noise of it,
     // where the sign of its force would flip from pass to pass (and every flip costs a pass
     // with an accurate solve). "Clearly" is 1e-3 of the node's size on a surface at rest, and
-    // 1e-6 where the step was solved accurately because the contact is an impact or its
-    // surface moves: there a band of 1e-3 held the tissue a tool moved away from with a pull
-    // of k times the band, a few newtons per node, for as long as they touched.
-    const double noise = (c.impact ? 1e-6 : 1e-3) * node_sizes_[c.node];
+    // 1e-6 on a moving one (solved accurately anyway, has_impacts): there a band of 1e-3 held
+    // the tissue a tool moved away from with a pull of k times the band, a few newtons per
+    // node, for as long as they touched. (1e-6 at impacts too cost the landing armadillo five
+    // times the CG iterations, in passes.)
+    const double noise = (c.moving_surface ? 1e-6 : 1e-3) * node_sizes_[c.node];
     const bool active = c.active ? gap <= std::max(c.multiplier / c.stiffness, noise) : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;

@@ -93,6 +93,7 @@ struct Contact {
   double slip_width = 0;      // eps [m] of the smoothed friction
   bool active = true;         // false: released by the linearised step (update_active)
   bool impact = false;        // new and closing fast, or on a moving surface (has_impacts)
+  bool moving_surface = false;  // the surface moves by 1 % of the node's size in the step
   bool coupled() const { return partners[0] >= 0; }
 };
 
@@ -141,8 +142,7 @@ class ContactSet final : public SystemCoupling {
   // For the linearised step's active set: releases the active contacts whose linear force
   // at x_new pulls (a tool lifted away, a landing node whose path crossed the floor too), and
   // takes back released ones whose node ended inside; returns whether any changed. Both only
-  // beyond 1e-3 of the node's size (1e-6 for an impact or a moving surface, solved
-  // accurately): a node that rests on or touches a surface ends within an inexact solve's
+  // beyond 1e-3 of the node's size (1e-6 on a moving surface, solved accurately): a node that rests on or touches a surface ends within an inexact solve's
   // noise of it, and would flip from pass to pass.
   bool update_active(const Nodes& x_new);
   // Whether a contact new in this step (no force carried) closes at more than 1 % of its
