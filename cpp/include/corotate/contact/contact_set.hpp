@@ -142,8 +142,9 @@ class ContactSet final : public SystemCoupling {
   // For the linearised step's active set: releases the active contacts whose linear force
   // at x_new pulls (a tool lifted away, a landing node whose path crossed the floor too), and
   // takes back released ones whose node ended inside; returns whether any changed. Both only
-  // beyond 1e-3 of the node's size (1e-6 on a moving surface, solved accurately): a node that rests on or touches a surface ends within an inexact solve's
-  // noise of it, and would flip from pass to pass.
+  // beyond 1e-3 of the node's size (1e-6 on a moving surface, solved accurately): a node
+  // that rests on or touches a surface ends within an inexact solve's noise of it, and would
+  // flip from pass to pass.
   bool update_active(const Nodes& x_new);
   // Whether a contact new in this step (no force carried) closes at more than 1 % of its
   // node's size per step relative to the obstacle (an impact, a tool pushed in fast), or
