@@ -107,7 +107,7 @@ class ContactMembers:
         return {k: np.asarray(v) for k, v in self._sim.contacts.items()}
 
     def contact_force(self, obstacle: Obstacle | None = None) -> np.ndarray:
-        """(3,) the total force obstacles exerted on the body at the end of the last step (of
+        """(3,) the total force obstacles exerted on the body in the last step (of
         `obstacle` alone when given). The body pushes back on the obstacle with its negative."""
         c = self._sim.contacts
         forces = np.asarray(c["forces"]).reshape(-1, 3)
@@ -154,7 +154,7 @@ class ContactMembers:
         return _parts(self._body.mesh.cells, self._body.n_nodes)
 
     def part_contact_force(self, part: int, other: int) -> np.ndarray:
-        """(3,) the force part `other` exerted on part `part` at the end of the last step
+        """(3,) the force part `other` exerted on part `part` in the last step
         (through both parts' contacts: the forces on part's nodes, less those part's surface
         gave other's nodes)."""
         c = self._sim.contacts
