@@ -39,8 +39,8 @@ def _read_only_copy(mesh: Mesh, check: bool = True) -> Mesh:
     else:
         from .mesh_checks import _unchecked
 
-        copy = _unchecked(Mesh, mesh.points.copy(), mesh.cells.copy(), mesh.cell_type)
-        copy.cell_regions = None if mesh.cell_regions is None else mesh.cell_regions.copy()
+        regions = None if mesh.cell_regions is None else mesh.cell_regions.copy()
+        copy = _unchecked(Mesh, mesh.points.copy(), mesh.cells.copy(), mesh.cell_type, regions)
     copy.points.flags.writeable = False
     copy.cells.flags.writeable = False
     return copy

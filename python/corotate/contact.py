@@ -23,6 +23,7 @@ class ContactMembers:
     _body: Any
     _obstacles: list[Obstacle]
     _contact_nodes_set: bool
+    _parts_cache: np.ndarray | None
     _node_list: Any  # DrivenBody's
 
     def add_obstacle(self, obstacle: Obstacle, friction: float = 0.0) -> None:
@@ -150,8 +151,13 @@ class ContactMembers:
     @property
     def parts(self) -> np.ndarray:
         """(n,) the part of each node: the connected pieces of the mesh, numbered in the order
-        of their first node (a ``Scene``'s bodies, in the order given)."""
-        return _parts(self._body.mesh.cells, self._body.n_nodes)
+        of their first node (a ``Scene``'s bodies, in the order given). Read-only."""
+        parts = getattr(self, "_parts_cache", None)
+        if parts is None:  # the body is immutable: found once
+            parts = _parts(self._body.mesh.cells, self._body.n_nodes)
+            parts.flags.writeable = False
+            self._parts_cache = parts
+        return parts
 
     def part_contact_force(self, part: int, other: int) -> np.ndarray:
         """(3,) the force part `other` exerted on part `part` in the last step

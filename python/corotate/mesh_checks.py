@@ -239,10 +239,17 @@ def _corner_cell_volumes(cell_type: str, points: np.ndarray, cells: np.ndarray) 
     return np.asarray(_core.cell_volumes(linear, points, cells[:, : facts["num_corners"]]))
 
 
-def _unchecked(mesh_class: type[Mesh], points: np.ndarray, cells: np.ndarray, cell_type: str) -> Mesh:
-    """A Mesh holding the arrays without running the checks again (for its geometry)."""
+def _unchecked(
+    mesh_class: type[Mesh],
+    points: np.ndarray,
+    cells: np.ndarray,
+    cell_type: str,
+    cell_regions: np.ndarray | None = None,
+) -> Mesh:
+    """A Mesh holding the arrays without running the checks again (for its geometry, or a
+    mesh joined from checked parts)."""
     mesh = mesh_class.__new__(mesh_class)
-    mesh.points, mesh.cells, mesh.cell_type = points, cells, cell_type
+    mesh.points, mesh.cells, mesh.cell_type, mesh.cell_regions = points, cells, cell_type, cell_regions
     return mesh
 
 

@@ -54,30 +54,34 @@ class Scene:
             if not isinstance(body, Body):
                 raise TypeError(f"body {k} is a {type(body).__name__}, not a corotate.Body")
         first = bodies[0]
+        shared = {
+            "cell_type": lambda b: b.mesh.cell_type,
+            "model": lambda b: b.model,
+            "project_psd": lambda b: b.project_psd,
+        }
         for k, body in enumerate(bodies[1:], start=1):
-            for name in ("cell_type", "model", "project_psd"):
-                mine = body.mesh.cell_type if name == "cell_type" else getattr(body, name)
-                theirs = first.mesh.cell_type if name == "cell_type" else getattr(first, name)
-                if mine != theirs:
-                    raise ValueError(f"body {k}'s {name} is {mine!r}, body 0's {theirs!r}: a scene's bodies share it")
+            for name, of in shared.items():
+                if of(body) != of(first):
+                    raise ValueError(
+                        f"body {k}'s {name} is {of(body)!r}, body 0's {of(first)!r}: a scene's bodies share it"
+                    )
         if first.thickness is not None:
             raise ValueError("a scene's bodies are solids; sheets (triangle meshes) touch nothing yet")
         offsets = np.cumsum([0] + [b.n_nodes for b in bodies])
         points = np.concatenate([b.mesh.points for b in bodies])
         cells = np.concatenate([b.mesh.cells + offsets[k] for k, b in enumerate(bodies)])
+        # Each body's regions, renumbered after the bodies before it: one material per region.
         materials: dict[int, Any] = {}
         regions = []
         for body in bodies:
-            own = body.materials
-            own_regions = body.regions if body.regions is not None else np.zeros(body.mesh.n_cells, dtype=np.int64)
-            renumber = {r: len(materials) + i for i, r in enumerate(sorted(own))}
-            materials.update({renumber[r]: m for r, m in own.items()})
-            regions.append(np.array([renumber[int(r)] for r in own_regions], dtype=np.int64))
+            ids = np.array(sorted(body.materials))
+            own = body.regions if body.regions is not None else np.full(body.mesh.n_cells, ids[0])
+            regions.append(len(materials) + np.searchsorted(ids, own))
+            materials.update({len(materials) + i: body.materials[int(r)] for i, r in enumerate(ids)})
         # Each body's mesh was checked on its own; joined, the bodies' nodes may coincide
         # where they touch (a block placed on a slab), which in one mesh would read as a
         # cell soup: the parts are separate on purpose, so the joined mesh is not re-checked.
         mesh = _unchecked(Mesh, points, cells, first.mesh.cell_type)
-        mesh.cell_regions = None
         self._offsets = offsets
         self._body = Body(
             mesh,

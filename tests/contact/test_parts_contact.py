@@ -178,3 +178,20 @@ def test_scene_bad_input():
         sim.solve_static()
     sim.clear_part_contact()
     assert not sim.part_contact
+
+
+def test_a_scene_keeps_each_body_s_materials():
+    """Bodies of several regions each: every cell of the joined body has its own material."""
+    mesh = cr.box((0.1, 0.1, 0.1), (2, 2, 2), origin=(0.0, 0.0, 0.0))
+    two = cr.Body(
+        mesh,
+        {3: cr.Material(E=1e5, nu=0.3, density=1000.0), 7: STEEL_FREE},
+        regions=np.arange(mesh.n_cells) % 2 * 4 + 3,
+    )
+    one = cube_body((0.2, 0.0, 0.0), cells=2, material=cr.Material(E=2e6, nu=0.25, density=500.0))
+    scene = cr.Scene([two, one])
+    lame = np.concatenate([np.column_stack(b.cell_lame()) for b in (two, one)])
+    np.testing.assert_array_equal(np.column_stack(scene.body.cell_lame()), lame)
+    np.testing.assert_allclose(
+        scene.body.mass_matrix().sum(), 3 * (1000 * 0.1**3 / 2 + 1000 * 0.1**3 / 2 + 500 * 0.1**3)
+    )

@@ -116,7 +116,7 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
   if (part) {
     // The point moves with its triangle: the gap and the slip are of r = y_i - sum w_j y_j.
     std::array<int, 3> corners;
-    static_cast<const TriangleMesh&>(surface).nearest(surface_local, corners, c.weights);
+    part->mesh->nearest(surface_local, corners, c.weights);
     for (int k = 0; k < 3; ++k) c.partners[k] = part->nodes[corners[k]];
     // On another part's edge or corner the surface's normal is a cone: a face that rests on
     // an edge is pushed along its own normal, not along the edge's bisector (which would
