@@ -31,18 +31,16 @@ misses. With 16 modes the stiffened step goes unstable at 0.7 s (its path stops 
 its root face, the basis carries nearly all of the link's rotation (the frame keeps 0.02 % of
 its rotational inertia about the hinge, against 0.15 % with 8 modes), and the stiffening, which
 acts on the modes alone, feeds the frame's fast motion that this leaves.
-The linear runs lag: corotate's by 0.8-0.9 %, Exudyn's by 1.5-1.9 % (RMS 0.65-0.78 %). The
-basis is converged at 8 modes (root face: 1.87 %, 32 modes the same) or 16 (hinge axis: 1.68 %);
-the exact hinge changes it by 0.2 %. The two linear runs are the same model yet 1.8 % of L apart
-by 2 s: corotate's keeps the exact energy to 1e-7 of m g L / 2, Exudyn's loses up to 0.8 %
-of it at the bottom of the swing (1.6 % with the hinge-axis basis), an amount that scales with
-the deformation (0.01 % at E = 3e10). Exudyn's Python user-function variant of the same body
-gives the same path, and its step is converged (0.25 ms: 1e-4 L), so the gap is in its
-equations of the flexible-rigid coupling, not in the export or the time step. A stiffer link
-narrows every gap: Exudyn to the full link 0.37-0.52 % (--E 1e9), 0.12-0.17 % (--E 3e9). The
-extrapolated reference is good to ~0.14 % of L (the extrapolations from 1 and 0.5 ms and from
-0.5 and 0.25 ms differ by that); the 0.25 ms backward-Euler run alone is 1.6 % off by 2 s (it
-damps). Exudyn's step (1 ms) is converged (0.5 ms: 4e-5 L).
+The linear runs lag by 0.85-0.92 % of L (RMS 0.37 %), Exudyn's and corotate's alike: the two
+codes run the same model, and their tip paths stay within 1e-6 L of each other over the 2 s
+(4, 8 and 16 modes), both keeping the exact energy (Exudyn to 1.3e-6 of m g L / 2, corotate to
+4e-8). The basis is converged at 8 modes; the exact hinge (the hinge-axis basis) changes the
+error by 0.15 %. Gravity reaches Exudyn's body as the consistent nodal loads (to_exudyn): with
+Exudyn's own mass-proportional load instead, its run lost up to 0.8 % of the energy at the
+bottom of the swing and lay 1.8 % of L from corotate's. A stiffer link narrows every gap (--E 1e9,
+--E 3e9). The extrapolated reference is good to ~0.14 % of L (the extrapolations from 1 and
+0.5 ms and from 0.5 and 0.25 ms differ by that); the 0.25 ms backward-Euler run alone is 1.6 %
+off by 2 s (it damps). Exudyn's step (1 ms) is converged (0.5 ms: 4e-5 L).
 
     python -m studies.flexible_pendulum --out flexible-pendulum   # tip_paths.csv, errors.csv, flexible_pendulum.png
 """

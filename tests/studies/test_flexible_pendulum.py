@@ -37,11 +37,15 @@ def test_exudyn_s_ffrf_body_follows_the_full_co_rotational_link(tmp_path):
     # corotate's floating frame, stiffened by its inertial loads and gravity, within 0.1 % of L of
     # the full link (measured 0.06 %; over the whole 2 s, 0.15-0.19 %).
     assert errors["corotate FFRF, stiffened, 8 modes"] < 0.001
-    # The linear one keeps the exact energy of its kinematics (measured 1e-7 of m g L / 2 over 2 s;
-    # Exudyn's run of the same body and basis 8e-3, which is the 1.8 % gap between the two by 2 s).
+    # The linear one keeps the exact energy of its kinematics (measured 1e-7 of m g L / 2 over 2 s).
     linear = table["corotate FFRF, linear, 8 modes"]
     assert float(linear["max_energy_change_over_mgL2"]) < 1e-5
-    assert float(table["Exudyn FFRF, root face, 8 modes"]["max_gap_to_corotate_ffrf_over_L"]) < 0.01
+    # Exudyn runs the same model from the exported basis: its path within 1e-6 L of corotate's
+    # and its energy kept to 1e-6 over 2 s (measured). Gravity as Exudyn's own mass-proportional
+    # load lost 1e-3 of the energy by 0.25 s and lay 3e-3 L off; 1e-4 separates the two.
+    exudyn = table["Exudyn FFRF, root face, 8 modes"]
+    assert float(exudyn["max_gap_to_corotate_ffrf_over_L"]) < 1e-4
+    assert float(exudyn["max_energy_change_over_mgL2"]) < 1e-4
     paths = np.loadtxt(tmp_path / "tip_paths.csv", delimiter=",", skiprows=1)
     t, x, z = paths[:, 0], paths[:, 1], paths[:, 2]
     np.testing.assert_allclose([x[0], z[0]], [L, 0.0], atol=1e-14)
