@@ -61,6 +61,7 @@ FloatingFrameInertia::FloatingFrameInertia(const Nodes& X, const Eigen::SparseMa
     for (Index k = 0; k < r_; ++k)
       moment_columns_.block<9, 1>(9 * q, k) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(Q(k + 1, q).data());
   }
+  modal_axial_rows_.resize(3 * r_, r_);
   for (auto& m : modal_axial_) m.resize(r_, r_);
   for (auto& m : modal_symmetric_) m.resize(r_, r_);
   modal_trace_.resize(r_, r_);
@@ -68,7 +69,7 @@ FloatingFrameInertia::FloatingFrameInertia(const Nodes& X, const Eigen::SparseMa
     for (Index l = 0; l < r_; ++l) {
       const Mat3& Qkl = Q(k + 1, l + 1);
       const Vec3 ax = axial(Qkl);
-      for (int a = 0; a < 3; ++a) modal_axial_[a](k, l) = ax[a];
+      for (int a = 0; a < 3; ++a) modal_axial_[a](k, l) = ax[a], modal_axial_rows_(3 * l + a, k) = ax[a];
       modal_trace_(k, l) = Qkl.trace();
       for (int p = 0; p < 6; ++p) {
         const int a = kSymmetricPairs[p][0], b = kSymmetricPairs[p][1];
@@ -149,6 +150,12 @@ void FloatingFrameInertia::moment_rates(const Vec& zeta, const Eigen::Ref<const 
   }
 }
 
+void FloatingFrameInertia::rate_axials(const Eigen::Ref<const Vec>& eta) const {
+  // axial(Q_{u'k}) = sum_l eta_l axial(Q_lk) for every mode k: one product with the modal
+  // axial table, a third of moment_rates' work (the rest of the rates is not needed there).
+  rate_axial_.noalias() = modal_axial_rows_ * eta;
+}
+
 void FloatingFrameInertia::energy_gradient(const Vec3& v, const Vec3& omega, Vec& out) const {
   // dT/dzeta_k = -v . (A_k x omega) + tr(Q_uk) |omega|^2 - omega^T Q_uk omega + omega^T dB/dzeta_k eta,
   // the last omega . axial(sum_l eta_l Q_kl) = -omega . axial(Q_{u'k}) (Q_lk = Q_kl^T).
@@ -156,15 +163,15 @@ void FloatingFrameInertia::energy_gradient(const Vec3& v, const Vec3& omega, Vec
   for (Index k = 0; k < r_; ++k) {
     const Mat3& Quk = u_moments_[k + 1];
     out[k] = -v.dot(first_[k + 1].cross(omega)) + Quk.trace() * omega2 - omega.dot(Quk * omega) -
-             omega.dot(axial(u_moments_rate_[k + 1]));
+             omega.dot(rate_axial_.segment<3>(3 * k));
   }
 }
 
 void FloatingFrameInertia::kinetic_energy_gradient(const Vec& zeta, const Vec& w, Vec& gradient) const {
   check_sizes(zeta, w);
-  Mat3 uu, rate_uu;
+  Mat3 uu;
   moments_of(zeta, uu);
-  moment_rates(zeta, w.tail(r_), rate_uu);
+  rate_axials(w.tail(r_));
   gradient.resize(r_);
   energy_gradient(w.segment<3>(0), w.segment<3>(3), gradient);
 }
@@ -174,9 +181,9 @@ void FloatingFrameInertia::velocity_derivatives(const Vec& zeta, const Vec& w, M
   check_sizes(zeta, w);
   const Vec3 v = w.segment<3>(0), omega = w.segment<3>(3);
   const double omega2 = omega.squaredNorm();
-  Mat3 uu, rate_uu;
+  Mat3 uu;
   moments_of(zeta, uu);
-  moment_rates(zeta, w.tail(r_), rate_uu);
+  rate_axials(w.tail(r_));
   dmomentum_dzeta.resize(6 + r_, r_);
   dgradient_dw.resize(r_, 6 + r_);
   dgradient_dzeta.resize(r_, r_);
@@ -188,11 +195,11 @@ void FloatingFrameInertia::velocity_derivatives(const Vec& zeta, const Vec& w, M
     // dc = s_k, dJ = cross_inertia(dQ_uu), d(B eta) = axial(sum_l eta_l Q_kl) = -axial(Q_{u'k}),
     // d(B^T omega)_l = omega . axial(Q_kl).
     dmomentum_dzeta.block<3, 1>(0, k) = -s.cross(omega);
-    dmomentum_dzeta.block<3, 1>(3, k) = s.cross(v) + cross_inertia(symmetric) * omega - axial(u_moments_rate_[k + 1]);
+    dmomentum_dzeta.block<3, 1>(3, k) = s.cross(v) + cross_inertia(symmetric) * omega - rate_axial_.segment<3>(3 * k);
     // dT/dzeta_k = -v . (s_k x omega) + tr(Q_uk) |omega|^2 - omega^T Q_uk omega - omega . axial(Q_{u'k}).
     dgradient_dw.block<1, 3>(k, 0) = -s.cross(omega).transpose();
     dgradient_dw.block<1, 3>(k, 3) =
-        (s.cross(v) + 2.0 * Quk.trace() * omega - symmetric * omega - axial(u_moments_rate_[k + 1])).transpose();
+        (s.cross(v) + 2.0 * Quk.trace() * omega - symmetric * omega - rate_axial_.segment<3>(3 * k)).transpose();
   }
   // The modal rows, from the precomputed tables: (6 + l, k) = omega . axial(Q_kl),
   // dgradient_dw(k, 6 + l) = -omega . axial(Q_lk), dgradient_dzeta(k, l) = tr(Q_lk) |omega|^2 -
@@ -219,12 +226,13 @@ void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec&
   Mat3 uu, rate_uu;
   moments_of(zeta, uu);
   moment_rates(zeta, eta, rate_uu);
+  rate_axials(eta);
   const Vec3 c = first_moment(zeta);
   Vec3 c_rate = Vec3::Zero(), B_eta = Vec3::Zero(), B_rate_eta = Vec3::Zero();
   for (Index k = 0; k < r_; ++k) {
     c_rate += eta[k] * first_[k + 1];  // (also A eta)
     B_eta += eta[k] * axial(u_moments_[k + 1]);
-    B_rate_eta += eta[k] * axial(u_moments_rate_[k + 1]);
+    B_rate_eta += eta[k] * rate_axial_.segment<3>(3 * k);
   }
   const Mat3 J = cross_inertia(uu);
   const Mat3 J_rate = 2.0 * rate_uu.trace() * Mat3::Identity() - (rate_uu + rate_uu.transpose());
@@ -237,7 +245,7 @@ void FloatingFrameInertia::quadratic_velocity_forces(const Vec& zeta, const Vec&
   Vec& gradient = gradient_;
   gradient.resize(r_);
   energy_gradient(v, omega, gradient);
-  for (Index k = 0; k < r_; ++k) modal[k] = -omega.dot(axial(u_moments_rate_[k + 1])) + gradient[k];  // -B'^T omega
+  for (Index k = 0; k < r_; ++k) modal[k] = -omega.dot(rate_axial_.segment<3>(3 * k)) + gradient[k];  // -B'^T omega
 }
 
 }  // namespace corotate

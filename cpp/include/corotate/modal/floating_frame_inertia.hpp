@@ -74,7 +74,9 @@ class FloatingFrameInertia {
   void check_sizes(const Vec& zeta, const Vec& w) const;
   // u_moments_rate_ (and Q_{u'u}) along eta, after moments_of.
   void moment_rates(const Vec& zeta, const Eigen::Ref<const Vec>& eta, Mat3& rate_uu) const;
-  // dT/dzeta from u_moments_ and u_moments_rate_.
+  // rate_axial_ (3 r: axial(Q_{u'k}) at 3 k) along eta.
+  void rate_axials(const Eigen::Ref<const Vec>& eta) const;
+  // dT/dzeta from u_moments_ and rate_axial_.
   void energy_gradient(const Vec3& v, const Vec3& omega, Vec& out) const;
 
   Index r_ = 0;
@@ -91,11 +93,12 @@ class FloatingFrameInertia {
   Vec moment_base_;
   Matrix moment_columns_;
   std::array<Matrix, 3> modal_axial_;
+  Matrix modal_axial_rows_;  // (3 l + a, k): axial(Q_{k+1,l+1})_a, for rate_axials' product
   Matrix modal_trace_;
   std::array<Matrix, 6> modal_symmetric_;
   // Work space of the const members (a step allocates nothing after the first).
   mutable std::vector<Mat3> u_moments_, u_moments_rate_;
-  mutable Vec gradient_, stacked_;
+  mutable Vec gradient_, stacked_, rate_axial_;
   mutable Vec cached_zeta_;  // moments_of's last zeta (empty: none): u_moments_, cached_uu_ are its
   mutable Mat3 cached_uu_ = Mat3::Zero();
   mutable Matrix table_;  // velocity_derivatives' omega-weighted combination of the tables
