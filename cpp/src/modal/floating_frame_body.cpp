@@ -57,8 +57,7 @@ void FloatingFrameBody::frame_loads(const FloatingFrameState& s, Vec3& force, Ve
 
 void FloatingFrameBody::balance_at(const FloatingFrameState& s, Balance& b) const {
   const Index r = inertia_.num_modes();
-  inertia_.mass_matrix(s.zeta, M_);
-  pi_.noalias() = M_ * s.velocity;
+  inertia_.momenta(s.zeta, s.velocity, pi_);
   b.linear = s.rotation * pi_.segment<3>(0);
   b.angular = s.position.cross(b.linear) + s.rotation * pi_.segment<3>(3);
   b.modal_momentum = pi_.tail(r);
@@ -104,6 +103,7 @@ void FloatingFrameBody::set_node_loads(Nodes points, Eigen::MatrixXd rows, Nodes
 
 void FloatingFrameBody::set_geometric_stiffness(const std::vector<Eigen::MatrixXd>& per_case) {
   const Index r = inertia_.num_modes();
+  schedule_.invalidate();
   if (per_case.empty()) {
     stiffening_cases_.resize(0, 0);
     return;
@@ -128,6 +128,7 @@ void FloatingFrameBody::set_support(FrameSupport support, const Vec3& axis) {
     axis_ = axis.normalized();
   }
   support_ = support;
+  schedule_.invalidate();
 }
 
 void FloatingFrameBody::check_support(const FloatingFrameState& s) const {
@@ -270,9 +271,7 @@ void FloatingFrameBody::stiffening_velocity_jacobian(const FloatingFrameState& s
   }
 }
 
-double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double h, double start_scale) {
-  // The end of the step from the trial velocities, its balances, and the residual of the
-  // step's equations (projected on what a support leaves free), relative to their scale.
+void FloatingFrameBody::trial_kinematics(const FloatingFrameState& state, double h) {
   const Index r = inertia_.num_modes();
   const Vec& w0 = state.velocity;
   const Vec& w1 = trial_.velocity;
@@ -285,6 +284,13 @@ double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double
         state.position + 0.5 * h * (state.rotation * w0.segment<3>(0) + trial_.rotation * w1.segment<3>(0));
   }
   trial_.zeta = state.zeta + 0.5 * h * (w0.tail(r) + w1.tail(r));
+}
+
+double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double h, double start_scale) {
+  // The end of the step from the trial velocities, its balances, and the residual of the
+  // step's equations (projected on what a support leaves free), relative to their scale.
+  const Index r = inertia_.num_modes();
+  trial_kinematics(state, h);
   balance_at(trial_, end_);
   residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
   residual_.segment<3>(3) = end_.angular - start_.angular - 0.5 * h * (start_.torque + end_.torque);
@@ -322,30 +328,38 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
                              h * (start_.force.norm() + start_.torque.norm() + start_.modal_load.norm());
   residual_.resize(size);
   if (reduced()) support_maps(state);
+  start_velocity_ = trial_.velocity;
   FloatingFrameStepStats stats;
-  double last_residual = 0.0;
-  bool refresh = true;
+  schedule_.begin(h, prescribed_ != nullptr ? kDrivenStep : 1 + int(support_));
   for (stats.iterations = 1; stats.iterations <= kMaxIterations; ++stats.iterations) {
     stats.residual = evaluate_trial(state, h, start_scale);
-    if (!std::isfinite(stats.residual)) break;
     if (stats.residual <= kTolerance) {
       state = trial_;
       return stats;
     }
-    // A chord method: the Jacobian of the first iteration is kept while each iteration cuts
-    // the residual by 4 or more, refreshed when convergence slows down.
-    if (stats.iterations > 1 && stats.residual > 0.25 * last_residual) refresh = true;
-    last_residual = stats.residual;
-    if (refresh) factor_jacobian(state, h);
-    refresh = false;
+    // The Jacobian as jacobian_schedule.hpp says: kept from the last step for the first
+    // correction, factored at the second iterate and kept while the iterations converge fast.
+    const JacobianSchedule::Next next = schedule_.after_evaluation(stats.residual);
+    if (next == JacobianSchedule::Next::Restart) {
+      trial_.velocity = start_velocity_;
+      continue;
+    }
+    if (!std::isfinite(stats.residual)) break;
+    if (next == JacobianSchedule::Next::FactorAndSolve && !factor_jacobian(state, h)) break;
     if (!reduced()) {
-      correction_ = lu_.solve(residual_);
+      lu_.solve(residual_, correction_);
     } else {  // the balances the support's reactions do not enter, in the velocities it leaves free
-      reduced_correction_ = lu_.solve(reduced_residual_);
+      lu_.solve(reduced_residual_, reduced_correction_);
       correction_.noalias() = free_velocities_ * reduced_correction_;
     }
     trial_.velocity -= correction_;
+    if (schedule_.converged_by_rate(kTolerance)) {
+      trial_kinematics(state, h);
+      state = trial_;
+      return stats;
+    }
   }
+  schedule_.invalidate();
   // A stiffened body whose modes carry nearly all of its rotation about a support (many
   // Craig-Bampton modes held at a small face: the frame keeps 0.02 % of a link's inertia with
   // 16) can go unstable, the stiffening acting on the modes alone; a smaller step won't help.
@@ -359,7 +373,7 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
                       "); the state was kept. A smaller time step helps where the motion is fast." + stiffened);
 }
 
-void FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double h) {
+bool FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double h) {
   // The Jacobian by w_{n+1}, with zeta_{n+1} = zeta_n + h/2 (eta_n + eta_{n+1}): the momenta
   // M(zeta) w (their zeta-dependence included), turned to the world frame; dT/dzeta by w and
   // zeta; the modal stiffness and damping; the stiffening's dependence on the velocities
@@ -367,6 +381,7 @@ void FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double 
   // body-frame forces and gravity's share of the modal loads and of the moment), of relative
   // order h^2.
   const Index r = inertia_.num_modes(), size = 6 + r;
+  inertia_.mass_matrix(trial_.zeta, M_);
   inertia_.velocity_derivatives(trial_.zeta, trial_.velocity, dmomentum_, dgradient_dw_, dgradient_dzeta_);
   momentum_jacobian_ = M_;
   momentum_jacobian_.rightCols(r) += (0.5 * h) * dmomentum_;
@@ -400,13 +415,10 @@ void FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double 
     stiffening_velocity_jacobian(state, h);
     jacobian_.bottomLeftCorner(r, 6) += stiffening_by_velocity_;
   }
-  if (!reduced()) {
-    lu_.compute(jacobian_);
-  } else {
-    projected_jacobian_.noalias() = projection_ * jacobian_;  // (in steps: no temporaries)
-    reduced_jacobian_.noalias() = projected_jacobian_ * free_velocities_;
-    lu_.compute(reduced_jacobian_);
-  }
+  if (!reduced()) return lu_.compute(jacobian_);
+  projected_jacobian_.noalias() = projection_ * jacobian_;  // (in steps: no temporaries)
+  reduced_jacobian_.noalias() = projected_jacobian_ * free_velocities_;
+  return lu_.compute(reduced_jacobian_);
 }
 
 double FloatingFrameBody::energy(const FloatingFrameState& s) const {

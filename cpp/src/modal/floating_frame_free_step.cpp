@@ -40,8 +40,7 @@ void FloatingFrameBody::centre_balance_at(const Vec& zeta, const Mat3& R, const 
                                           Balance& b) const {
   const Index r = inertia_.num_modes();
   const double m = inertia_.mass();
-  inertia_.mass_matrix(zeta, M_);
-  pi_.noalias() = M_ * w_rel;  // pi_v = 0 by the choice of w_rel
+  inertia_.momenta(zeta, w_rel, pi_);  // pi_v = 0 by the choice of w_rel
   b.linear = m * V;
   b.angular = R * pi_.segment<3>(3);  // about the centre of mass
   b.modal_momentum = pi_.tail(r);
@@ -79,21 +78,25 @@ FloatingFrameStepStats FloatingFrameBody::step_free(FloatingFrameState& state, d
                              h * (start_.force.norm() + start_.torque.norm() + start_.modal_load.norm());
   unknown_.resize(size);
   unknown_ << V0, omega0, state.velocity.tail(r);
+  start_unknown_ = unknown_;
   residual_.resize(size);
   trial_ = state;
-  FloatingFrameStepStats stats;
-  double last_residual = 0.0;
-  bool refresh = true;
-  for (stats.iterations = 1; stats.iterations <= kMaxIterations; ++stats.iterations) {
+  // The end of the step from unknown_: its kinematics and the frame velocity w_rel_.
+  const auto end_kinematics = [&] {
     const Vec3 V1 = unknown_.segment<3>(0), omega1 = unknown_.segment<3>(3);
     trial_.zeta = state.zeta + 0.5 * h * (state.velocity.tail(r) + unknown_.tail(r));
     trial_.rotation = R0 * cayley_rotation(0.5 * h * (omega0 + omega1));
     relative_velocity(trial_.zeta, omega1, unknown_.tail(r), w_rel_);
-    const Vec3 centre1 = centre0 + 0.5 * h * (V0 + V1);
-    centre_balance_at(trial_.zeta, trial_.rotation, V1, w_rel_, end_);
-    trial_.position = centre1 - trial_.rotation * inertia_.first_moment(trial_.zeta) / m;
+    trial_.position = centre0 + 0.5 * h * (V0 + V1) - trial_.rotation * inertia_.first_moment(trial_.zeta) / m;
     trial_.velocity = w_rel_;
     trial_.velocity.segment<3>(0) += trial_.rotation.transpose() * V1;
+  };
+  FloatingFrameStepStats stats;
+  schedule_.begin(h, kFreeStep);
+  for (stats.iterations = 1; stats.iterations <= kMaxIterations; ++stats.iterations) {
+    const Vec3 V1 = unknown_.segment<3>(0);
+    end_kinematics();
+    centre_balance_at(trial_.zeta, trial_.rotation, V1, w_rel_, end_);
     residual_.segment<3>(0) = end_.linear - start_.linear - 0.5 * h * (start_.force + end_.force);
     // The angular balance about the world origin, H = x_c x m V + R pi^c, less x_c,n x the
     // linear one (the same solution, without the large, cancelling x_c x L of a body far from
@@ -106,29 +109,38 @@ FloatingFrameStepStats FloatingFrameBody::step_free(FloatingFrameState& state, d
     const double scale = start_scale + end_.linear.norm() + end_.angular.norm() + end_.modal_momentum.norm() +
                          h * (end_.force.norm() + end_.torque.norm() + end_.modal_load.norm()) + 1e-300;
     stats.residual = residual_.norm() / scale;
-    if (!std::isfinite(stats.residual)) break;
     if (stats.residual <= kTolerance) {
       state = trial_;
       return stats;
     }
-    if (stats.iterations > 1 && stats.residual > 0.25 * last_residual) refresh = true;
-    last_residual = stats.residual;
-    if (refresh) factor_free_jacobian(h, V0);
-    refresh = false;
-    correction_ = lu_.solve(residual_);
+    const JacobianSchedule::Next next = schedule_.after_evaluation(stats.residual);
+    if (next == JacobianSchedule::Next::Restart) {
+      unknown_ = start_unknown_;
+      continue;
+    }
+    if (!std::isfinite(stats.residual)) break;
+    if (next == JacobianSchedule::Next::FactorAndSolve && !factor_free_jacobian(h, V0)) break;
+    lu_.solve(residual_, correction_);
     unknown_ -= correction_;
+    if (schedule_.converged_by_rate(kTolerance)) {
+      end_kinematics();
+      state = trial_;
+      return stats;
+    }
   }
+  schedule_.invalidate();
   throw SolverFailure("floating frame: the implicit step did not converge (relative residual " +
                       std::to_string(stats.residual) + "); the state was kept. A smaller time step helps.");
 }
 
-void FloatingFrameBody::factor_free_jacobian(double h, const Vec3& V0) {
+bool FloatingFrameBody::factor_free_jacobian(double h, const Vec3& V0) {
   // The Jacobian by (V, omega, eta)_{n+1}: the momenta and dT/dzeta at w_rel, whose
   // dependence on (omega, eta) is d w_rel = E d(omega, eta) (v_c = c/m x omega - A eta / m,
   // c moving with zeta = ... + h/2 eta), and on zeta directly; the translation's own rows.
   const Index r = inertia_.num_modes(), size = 6 + r;
   const double m = inertia_.mass();
   const Vec3 omega = unknown_.segment<3>(3);
+  inertia_.mass_matrix(trial_.zeta, M_);
   inertia_.velocity_derivatives(trial_.zeta, w_rel_, dmomentum_, dgradient_dw_, dgradient_dzeta_);
   relative_map_.setZero(size, 3 + r);
   relative_map_.block<3, 3>(0, 0) = cross_matrix(inertia_.first_moment(trial_.zeta) / m);
@@ -157,7 +169,7 @@ void FloatingFrameBody::factor_free_jacobian(double h, const Vec3& V0) {
   jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
   for (int k = 0; k < kInertialLoadCases && stiffening(); ++k)
     jacobian_.bottomRightCorner(r, r) += (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);
-  lu_.compute(jacobian_);
+  return lu_.compute(jacobian_);
 }
 
 }  // namespace corotate

@@ -131,6 +131,25 @@ void FloatingFrameInertia::mass_matrix(const Vec& zeta, Matrix& M) const {
   M.bottomRightCorner(r_, r_) = modal_mass_;
 }
 
+void FloatingFrameInertia::momenta(const Vec& zeta, const Vec& w, Vec& pi) const {
+  check_sizes(zeta, w);
+  Mat3 uu;
+  moments_of(zeta, uu);
+  const Vec3 c = first_moment(zeta), v = w.segment<3>(0), omega = w.segment<3>(3);
+  const auto eta = w.tail(r_);
+  pi.resize(6 + r_);
+  Vec3 A_eta = Vec3::Zero(), B_eta = Vec3::Zero();
+  for (Index k = 0; k < r_; ++k) {
+    const Vec3 B_k = axial(u_moments_[k + 1]);
+    A_eta += eta[k] * first_[k + 1];
+    B_eta += eta[k] * B_k;
+    pi[6 + k] = first_[k + 1].dot(v) + B_k.dot(omega);
+  }
+  pi.segment<3>(0) = mass_ * v - c.cross(omega) + A_eta;
+  pi.segment<3>(3) = c.cross(v) + cross_inertia(uu) * omega + B_eta;
+  pi.tail(r_).noalias() += modal_mass_ * eta;
+}
+
 void FloatingFrameInertia::check_sizes(const Vec& zeta, const Vec& w) const {
   if (zeta.size() != r_ || w.size() != 6 + r_)
     throw InvalidInput("floating frame: " + std::to_string(r_) + " modal coordinates and " + std::to_string(6 + r_) +

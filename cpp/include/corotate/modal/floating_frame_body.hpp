@@ -23,12 +23,13 @@
 // step's mean accelerations (so the scheme stays symmetric).
 #pragma once
 
-#include <Eigen/LU>
 #include <vector>
 
 #include "corotate/materials/determinant_derivatives.hpp"  // cross_matrix
 #include "corotate/modal/floating_frame_inertia.hpp"
 #include "corotate/modal/inertial_load_cases.hpp"
+#include "corotate/modal/jacobian_schedule.hpp"
+#include "corotate/solvers/small_dense_lu.hpp"
 
 namespace corotate {
 
@@ -121,16 +122,19 @@ class FloatingFrameBody {
   void centre_balance_at(const Vec& zeta, const Mat3& R, const Vec3& V, const Vec& w_rel, Balance& b) const;
   // (The stiffening's dependence on the velocities is left out here: a free body's frame
   // velocities enter it through w_rel, and its inertial loads are small beside a driven one's.)
-  void factor_free_jacobian(double h, const Vec3& V0);
+  bool factor_free_jacobian(double h, const Vec3& V0);  // false: singular
   // + h/2 (K_geo zeta)_{n, n+1} in the modal residual, from state and trial_'s frame velocities.
   void add_stiffening(const FloatingFrameState& state, double h);
   // stiffening_by_velocity_ = d/d(v, omega)_{n+1} of that term (r x 6, the frame's velocities
   // in the frame).
   void stiffening_velocity_jacobian(const FloatingFrameState& state, double h);
+  // trial_'s end of the step (rotation, position, zeta) from trial_.velocity.
+  void trial_kinematics(const FloatingFrameState& state, double h);
   // trial_'s end of the step and residual_ from trial_.velocity; returns the relative residual.
   double evaluate_trial(const FloatingFrameState& state, double h, double start_scale);
-  // The Jacobian's leading part at trial_ (M_, pi_, end_ from its balance), factored into lu_.
-  void factor_jacobian(const FloatingFrameState& state, double h);
+  // The Jacobian's leading part at trial_ (M_, pi_, end_ from its balance), factored into lu_;
+  // false when it is singular.
+  bool factor_jacobian(const FloatingFrameState& state, double h);
   // The twelve load cases' coefficients at s for the step's accelerations (gravity in s's frame).
   std::array<double, kInertialLoadCases> load_coefficients(const FloatingFrameState& s, const Vec3& alpha,
                                                            const Vec3& acceleration) const;
@@ -166,7 +170,10 @@ class FloatingFrameBody {
   Eigen::MatrixXd jacobian_, momentum_jacobian_, dmomentum_, dgradient_dw_, dgradient_dzeta_;
   Eigen::MatrixXd relative_map_, gradient_jacobian_;  // the free step's
   Vec unknown_, w_rel_, w_rel_start_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  SmallDenseLU lu_;
+  JacobianSchedule schedule_;                       // when lu_ is factored (kept across steps)
+  static constexpr int kFreeStep = 0, kDrivenStep = 4;  // schedule_'s kinds; held: 1 + FrameSupport
+  Vec start_unknown_, start_velocity_;              // a step's start guesses, for a restart
   Vec residual_, correction_;
   Balance start_, end_;
   FloatingFrameState trial_;

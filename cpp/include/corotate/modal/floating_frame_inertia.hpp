@@ -50,6 +50,8 @@ class FloatingFrameInertia {
 
   // M(zeta), (6 + r) square, into M (sized on first use).
   void mass_matrix(const Vec& zeta, Matrix& M) const;
+  // The momenta pi = M(zeta) w (6 + r) without forming M (a step's residual needs no more).
+  void momenta(const Vec& zeta, const Vec& w, Vec& pi) const;
   // The velocity-dependent forces f with M w' = f + (applied and elastic forces): the
   // gyroscopic terms of the frame, -M'(zeta, eta) w and dT/dzeta.
   void quadratic_velocity_forces(const Vec& zeta, const Vec& w, Vec& f) const;
