@@ -82,9 +82,11 @@ std::array<double, kInertialLoadCases> FloatingFrameBody::stiffening_force(const
                                                                            Vec& out) {
   const Index r = inertia_.num_modes();
   const auto c = load_coefficients(s, alpha, acceleration);
-  // K_geo zeta = [K_0 ... K_11] (c kron zeta): one product.
-  for (int k = 0; k < kInertialLoadCases; ++k) stiffening_weights_.segment(k * r, r) = c[k] * s.zeta;
-  out.noalias() = stiffening_cases_ * stiffening_weights_;
+  // K_geo zeta = sum_c c_c K_c zeta over the cases that are loaded: a body on a joint or
+  // driven about one axis has few (a pendulum 4 of the 12), a tumbling one all.
+  out.setZero(r);
+  for (int k = 0; k < kInertialLoadCases; ++k)
+    if (c[k] != 0.0) out.noalias() += (c[k] * stiffening_cases_.middleCols(k * r, r)) * s.zeta;
   return c;
 }
 
@@ -118,7 +120,6 @@ void FloatingFrameBody::set_geometric_stiffness(const std::vector<Eigen::MatrixX
     cases.middleCols(k * r, r) = 0.5 * (per_case[k] + per_case[k].transpose());
   }
   stiffening_cases_ = std::move(cases);
-  stiffening_weights_.resize(kInertialLoadCases * r);
 }
 
 void FloatingFrameBody::set_support(FrameSupport support, const Vec3& axis) {
@@ -154,35 +155,32 @@ void FloatingFrameBody::constrain(const FloatingFrameState& s, Vec& w) const {
 }
 
 void FloatingFrameBody::support_maps(const FloatingFrameState& s) {
-  // free_velocities_ (6 + r x d): w = free_velocities_ z; projection_ (d x 6 + r): the
-  // balances without the reactions. The origin p is held, so the angular balance about p is
-  // the one about the world origin minus p x the linear one; a revolute support also leaves
-  // the moment about its axis (a_w = R a, fixed in the world) alone.
-  const Index r = inertia_.num_modes(), size = 6 + r;
-  if (prescribed_ != nullptr) {  // the modes alone
-    free_velocities_.setZero(size, r);
-    projection_.setZero(r, size);
-    free_velocities_.bottomRows(r).setIdentity();
-    projection_.rightCols(r).setIdentity();
+  // The frame's share of the maps (the modal coordinates pass through both unchanged):
+  // frame_velocities_ (6 x f): (v, omega) = frame_velocities_ z_f; frame_projection_ (f x 6):
+  // the frame balances without the reactions. The origin p is held, so the angular balance
+  // about p is the one about the world origin minus p x the linear one; a revolute support
+  // also leaves the moment about its axis (a_w = R a, fixed in the world) alone. A prescribed
+  // motion leaves the frame nothing (f = 0).
+  if (prescribed_ != nullptr) {
+    frame_velocities_.resize(6, 0);
+    frame_projection_.resize(0, 6);
     return;
   }
   const bool revolute = support_ == FrameSupport::Revolute;
-  const Index d = (revolute ? 1 : 3) + r;
-  free_velocities_.setZero(size, d);
-  projection_.setZero(d, size);
+  const Index f = revolute ? 1 : 3;
+  frame_velocities_.setZero(6, f);
+  frame_projection_.setZero(f, 6);
   const Mat3 about_p = -cross_matrix(s.position);
   if (revolute) {
-    free_velocities_.block<3, 1>(3, 0) = axis_;
+    frame_velocities_.block<3, 1>(3, 0) = axis_;
     const Vec3 a = s.rotation * axis_;
-    projection_.block<1, 3>(0, 0) = a.transpose() * about_p;
-    projection_.block<1, 3>(0, 3) = a.transpose();
+    frame_projection_.block<1, 3>(0, 0) = a.transpose() * about_p;
+    frame_projection_.block<1, 3>(0, 3) = a.transpose();
   } else {
-    free_velocities_.block<3, 3>(3, 0).setIdentity();
-    projection_.block<3, 3>(0, 0) = about_p;
-    projection_.block<3, 3>(0, 3).setIdentity();
+    frame_velocities_.block<3, 3>(3, 0).setIdentity();
+    frame_projection_.block<3, 3>(0, 0) = about_p;
+    frame_projection_.block<3, 3>(0, 3).setIdentity();
   }
-  free_velocities_.bottomRightCorner(r, r).setIdentity();
-  projection_.bottomRightCorner(r, r).setIdentity();
 }
 
 FloatingFrameStepStats FloatingFrameBody::step_prescribed(FloatingFrameState& state, double h, const FramePose& end) {
@@ -299,7 +297,10 @@ double FloatingFrameBody::evaluate_trial(const FloatingFrameState& state, double
   const double scale = start_scale + end_.linear.norm() + end_.angular.norm() + end_.modal_momentum.norm() +
                        h * (end_.force.norm() + end_.torque.norm() + end_.modal_load.norm()) + 1e-300;
   if (!reduced()) return residual_.norm() / scale;
-  reduced_residual_.noalias() = projection_ * residual_;
+  const Index f = frame_projection_.rows();
+  reduced_residual_.resize(f + r);
+  reduced_residual_.head(f).noalias() = frame_projection_ * residual_.head<6>();
+  reduced_residual_.tail(r) = residual_.tail(r);
   return reduced_residual_.norm() / scale;
 }
 
@@ -350,7 +351,10 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
       lu_.solve(residual_, correction_);
     } else {  // the balances the support's reactions do not enter, in the velocities it leaves free
       lu_.solve(reduced_residual_, reduced_correction_);
-      correction_.noalias() = free_velocities_ * reduced_correction_;
+      const Index f = frame_velocities_.cols();
+      correction_.resize(size);
+      correction_.head<6>().noalias() = frame_velocities_ * reduced_correction_.head(f);
+      correction_.tail(r) = reduced_correction_.tail(r);
     }
     trial_.velocity -= correction_;
     if (schedule_.converged_by_rate(kTolerance)) {
@@ -410,14 +414,22 @@ bool FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double 
   jacobian_.bottomRightCorner(r, r) -= (0.25 * h * h) * dgradient_dzeta_;
   jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
   for (int k = 0; k < kInertialLoadCases && stiffening(); ++k)
-    jacobian_.bottomRightCorner(r, r) += (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);
+    if (end_coefficients_[k] != 0.0)
+      jacobian_.bottomRightCorner(r, r) +=
+          (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);
   if (stiffening()) {
     stiffening_velocity_jacobian(state, h);
     jacobian_.bottomLeftCorner(r, 6) += stiffening_by_velocity_;
   }
   if (!reduced()) return lu_.compute(jacobian_);
-  projected_jacobian_.noalias() = projection_ * jacobian_;  // (in steps: no temporaries)
-  reduced_jacobian_.noalias() = projected_jacobian_ * free_velocities_;
+  // P J V by blocks, P = diag(frame_projection_, I) and V = diag(frame_velocities_, I).
+  const Index f = frame_projection_.rows();
+  projected_frame_rows_.noalias() = frame_projection_ * jacobian_.topRows<6>();  // f x (6 + r)
+  reduced_jacobian_.resize(f + r, f + r);
+  reduced_jacobian_.topLeftCorner(f, f).noalias() = projected_frame_rows_.leftCols<6>() * frame_velocities_;
+  reduced_jacobian_.topRightCorner(f, r) = projected_frame_rows_.rightCols(r);
+  reduced_jacobian_.bottomLeftCorner(r, f).noalias() = jacobian_.bottomLeftCorner(r, 6) * frame_velocities_;
+  reduced_jacobian_.bottomRightCorner(r, r) = jacobian_.bottomRightCorner(r, r);
   return lu_.compute(reduced_jacobian_);
 }
 

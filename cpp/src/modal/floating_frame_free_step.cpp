@@ -168,7 +168,9 @@ bool FloatingFrameBody::factor_free_jacobian(double h, const Vec3& V0) {
   jacobian_.bottomRightCorner(r, 3 + r) = momentum_jacobian_.bottomRows(r) - (0.5 * h) * gradient_jacobian_;
   jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
   for (int k = 0; k < kInertialLoadCases && stiffening(); ++k)
-    jacobian_.bottomRightCorner(r, r) += (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);
+    if (end_coefficients_[k] != 0.0)
+      jacobian_.bottomRightCorner(r, r) +=
+          (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);
   return lu_.compute(jacobian_);
 }
 

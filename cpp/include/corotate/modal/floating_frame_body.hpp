@@ -158,11 +158,11 @@ class FloatingFrameBody {
   LoadFrame load_frame_ = LoadFrame::World;
   Eigen::MatrixXd stiffening_cases_;  // r x 12 r: [K_0 ... K_11]
   std::array<double, kInertialLoadCases> end_coefficients_{};
-  Vec stiffening_weights_, stiffening_start_, stiffening_end_;
+  Vec stiffening_start_, stiffening_end_;
   Eigen::MatrixXd stiffening_by_velocity_;
   Vec case_end_;                 // K_c zeta_{n+1}, one load case c
   Eigen::MatrixXd start_cases_;  // r x 12: K_c zeta_n, the step's start, per load case
-  Eigen::MatrixXd free_velocities_, projection_, projected_jacobian_, reduced_jacobian_;
+  Eigen::MatrixXd frame_velocities_, frame_projection_, projected_frame_rows_, reduced_jacobian_;
   Vec reduced_residual_, reduced_correction_;
   // Work space (sized on first use).
   mutable Eigen::MatrixXd M_;
