@@ -19,11 +19,11 @@ Prints the CPU and the instruction set the core was built for.
 from __future__ import annotations
 
 import argparse
-import platform
 import time
 from pathlib import Path
 
 import numpy as np
+from bench_machine import describe_machine
 
 import corotate as cr
 
@@ -103,15 +103,6 @@ def feedback_query(repeats: int) -> None:
     print(f"ToolFeedback.query from Python: {np.median(runs):.1f} us (median of {repeats} runs of 10,000 calls)")
 
 
-def cpu_name() -> str:
-    cpuinfo = Path("/proc/cpuinfo")
-    if cpuinfo.exists():
-        for line in cpuinfo.read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    return platform.machine()
-
-
 def main() -> None:
     p = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
@@ -124,9 +115,7 @@ def main() -> None:
     data = Path(args.data)
     if not data.is_file():
         p.error(f"the armadillo mesh is not at {data}: pass its path with --data (the shared data beside the clone)")
-    info = cr.build_info()
-    cpu = cpu_name()
-    print(f"{cpu}; the core runs its {info['instruction_set']} code path")
+    print(describe_machine())
     feedback_query(args.repeats)
     beam_runs(args.steps, args.repeats)
     armadillo_drop(data, args.seconds)

@@ -20,6 +20,7 @@ import argparse
 import time
 
 import numpy as np
+from bench_machine import describe_machine
 
 import corotate as cr
 from corotate.modal import FloatingBody, craig_bampton
@@ -62,6 +63,7 @@ def main(argv=None) -> int:
     parser.add_argument("--repeats", type=int, default=7, help="runs per figure; the median is printed (default 7)")
     args = parser.parse_args(argv)
     body, basis = link(args.modes)
+    print(describe_machine())
     print(f"floating frame step, {basis.size} modes, dt = {DT} s, {args.steps} steps x {args.repeats} runs")
     print(f"  {'motion':10s} {'us/step':>9s} {'iter/step':>10s} {'real time':>10s}")
     runs = [scenarios(body, basis) for _ in range(args.repeats)]  # each run from the same start

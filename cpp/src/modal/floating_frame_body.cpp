@@ -233,19 +233,21 @@ void FloatingFrameBody::add_stiffening(const FloatingFrameState& state, double h
   residual_.tail(r) += 0.5 * h * (stiffening_start_ + stiffening_end_);
 }
 
-void FloatingFrameBody::stiffening_velocity_jacobian(const FloatingFrameState& state, double h) {
+void FloatingFrameBody::stiffening_velocity_jacobian(const FloatingFrameState& state, double h, const Mat3& tangent) {
   // The term is h/2 sum_c (c_c,n K_c zeta_n + c_c,n+1 K_c zeta_{n+1}). The Euler and translation
   // cases' coefficients are the step's accelerations, alpha = (omega_{n+1} - omega_n) / h and
   // a = (v_{n+1} - v_n) / h + (omega_n + omega_{n+1}) x (v_n + v_{n+1}) / 4: they move with the
   // end velocities at O(1/h), so the term's derivative is O(1), as large as the stiffening
   // itself (a pendulum's angular acceleration stiffens it; left out, 16 stiffened modes
   // converged linearly at 0.7 per iteration and stopped at 50). The centrifugal cases move
-  // with omega_{n+1} at the end. Gravity's turn with the rotation is left out (O(h)).
+  // with omega_{n+1} at the end, and so does gravity in the frame at the end, g_b = R^T g (the
+  // translation cases' coefficients are a - g_b): dg_b = [g_b]x tangent domega.
   const Index r = inertia_.num_modes();
   const Vec3 w0 = state.velocity.segment<3>(3), w1 = trial_.velocity.segment<3>(3);
   const Vec3 v_sum = state.velocity.segment<3>(0) + trial_.velocity.segment<3>(0);
   const Mat3 by_v = Mat3::Identity() / h + 0.25 * cross_matrix(w0 + w1);  // da/dv_{n+1}
   const Mat3 by_omega = -0.25 * cross_matrix(v_sum);                       // da/domega_{n+1}
+  const Mat3 gravity_turn = -cross_matrix(trial_.rotation.transpose() * gravity_) * tangent;  // d(-g_b)/domega
   stiffening_by_velocity_.setZero(r, 6);
   for (int k = 0; k < kInertialLoadCases; ++k) {
     const auto K = stiffening_cases_.middleCols(k * r, r);
@@ -256,6 +258,8 @@ void FloatingFrameBody::stiffening_velocity_jacobian(const FloatingFrameState& s
       stiffening_by_velocity_.col(3 + b) += (0.5 * h * w1[a]) * case_end_;
       continue;
     }
+    if (k >= 9)  // gravity at the end alone: K_c zeta_{n+1}
+      for (int j = 0; j < 3; ++j) stiffening_by_velocity_.col(3 + j) += (0.5 * h * gravity_turn(k - 9, j)) * case_end_;
     case_end_ += start_cases_.col(k);  // alpha and a: the same coefficient at both ends
     if (k < 9) {
       stiffening_by_velocity_.col(3 + (k - 6)) += 0.5 * case_end_;  // h/2 * (1/h)
@@ -377,13 +381,51 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
                       "); the state was kept. A smaller time step helps where the motion is fast." + stiffened);
 }
 
+void FloatingFrameBody::loads_turn(double h, const Mat3& tangent) {
+  // The loads' dependence on omega_{n+1} through R_{n+1} (dR = R [dtheta]x, dtheta = tangent
+  // domega) and, for the moments, on eta_{n+1} through the points' motion u = X + Psi zeta. A
+  // world-fixed force f at u: its moment (R u) x f moves by [f]x R [u]x dtheta and by -[f]x R
+  // Psi dzeta, its modal load Psi^T R^T f by Psi^T [R^T f]x dtheta; gravity is such a force, m g
+  // at the centre of mass (c = m u, Psi -> A). A body-fixed force f_b: the force R f_b moves by
+  // -R [f_b]x dtheta, its moment about the origin p x R f_b + R (u x f_b) by that force's turn
+  // and by -R [u x f_b]x dtheta (its dzeta part left out). Each enters the
+  // residual as -h/2 (load at the end); a pendulum's gravity torque is what drives it, and
+  // without these terms its step converged at 1/150 per iteration instead of 1e-4.
+  const Index r = inertia_.num_modes();
+  const Mat3& R1 = trial_.rotation;
+  const auto world_force = [&](const Vec3& f, const Vec3& u, const auto& rows) {
+    const Mat3 f_cross = cross_matrix(f);
+    jacobian_.block<3, 3>(3, 3) -= (0.5 * h) * f_cross * R1 * cross_matrix(u) * tangent;
+    jacobian_.block(3, 6, 3, r).noalias() += (0.25 * h * h) * (f_cross * R1) * rows;
+    jacobian_.block(6, 3, r, 3).noalias() -=
+        (0.5 * h) * rows.transpose() * (cross_matrix(R1.transpose() * f) * tangent);
+  };
+  if (gravity_.squaredNorm() > 0.0) {
+    const double m = inertia_.mass();
+    gravity_rows_.resize(3, r);
+    for (Index k = 0; k < r; ++k) gravity_rows_.col(k) = inertia_.modal_first_moment(k) / m;
+    world_force(m * gravity_, inertia_.first_moment(trial_.zeta) / m, gravity_rows_);
+  }
+  for (Index i = 0; i < load_points_.cols(); ++i) {
+    const auto rows = load_rows_.middleRows(3 * i, 3);
+    const Vec3 u = load_points_.col(i) + rows * trial_.zeta;
+    if (load_frame_ == LoadFrame::World) {
+      world_force(load_forces_.col(i), u, rows);
+    } else {
+      const Vec3 f_b = load_forces_.col(i);
+      const Mat3 turn_force = (0.5 * h) * R1 * cross_matrix(f_b) * tangent;
+      jacobian_.block<3, 3>(0, 3) += turn_force;
+      jacobian_.block<3, 3>(3, 3) += cross_matrix(trial_.position) * turn_force;  // p x F
+      jacobian_.block<3, 3>(3, 3) += (0.5 * h) * R1 * cross_matrix(u.cross(f_b)) * tangent;
+    }
+  }
+}
+
 bool FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double h) {
   // The Jacobian by w_{n+1}, with zeta_{n+1} = zeta_n + h/2 (eta_n + eta_{n+1}): the momenta
   // M(zeta) w (their zeta-dependence included), turned to the world frame; dT/dzeta by w and
   // zeta; the modal stiffness and damping; the stiffening's dependence on the velocities
-  // (stiffening_velocity_jacobian). Left out: the loads' dependence on the rotation (the
-  // body-frame forces and gravity's share of the modal loads and of the moment), of relative
-  // order h^2.
+  // (stiffening_velocity_jacobian); the loads' turn with the frame (loads_turn).
   const Index r = inertia_.num_modes(), size = 6 + r;
   inertia_.mass_matrix(trial_.zeta, M_);
   inertia_.velocity_derivatives(trial_.zeta, trial_.velocity, dmomentum_, dgradient_dw_, dgradient_dzeta_);
@@ -410,6 +452,7 @@ bool FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double 
   jacobian_.block<3, 3>(3, 0) += lever * (0.5 * h * R1);
   jacobian_.block<3, 3>(3, 3) -= lever * (0.5 * h * R1 * cross_matrix(trial_.velocity.segment<3>(0)) * tangent);
   jacobian_.bottomRows(r) = momentum_jacobian_.bottomRows(r);
+  loads_turn(h, tangent);
   jacobian_.bottomRows(r) -= (0.5 * h) * dgradient_dw_;
   jacobian_.bottomRightCorner(r, r) -= (0.25 * h * h) * dgradient_dzeta_;
   jacobian_.bottomRightCorner(r, r) += (0.25 * h * h) * stiffness_ + (0.5 * h) * damping_;
@@ -418,7 +461,7 @@ bool FloatingFrameBody::factor_jacobian(const FloatingFrameState& state, double 
       jacobian_.bottomRightCorner(r, r) +=
           (0.25 * h * h * end_coefficients_[k]) * stiffening_cases_.middleCols(k * r, r);
   if (stiffening()) {
-    stiffening_velocity_jacobian(state, h);
+    stiffening_velocity_jacobian(state, h, tangent);
     jacobian_.bottomLeftCorner(r, 6) += stiffening_by_velocity_;
   }
   if (!reduced()) return lu_.compute(jacobian_);

@@ -127,7 +127,9 @@ class FloatingFrameBody {
   void add_stiffening(const FloatingFrameState& state, double h);
   // stiffening_by_velocity_ = d/d(v, omega)_{n+1} of that term (r x 6, the frame's velocities
   // in the frame).
-  void stiffening_velocity_jacobian(const FloatingFrameState& state, double h);
+  void stiffening_velocity_jacobian(const FloatingFrameState& state, double h, const Mat3& tangent);
+  // The loads' turn with the frame into jacobian_ (tangent: dtheta / domega_{n+1}).
+  void loads_turn(double h, const Mat3& tangent);
   // trial_'s end of the step (rotation, position, zeta) from trial_.velocity.
   void trial_kinematics(const FloatingFrameState& state, double h);
   // trial_'s end of the step and residual_ from trial_.velocity; returns the relative residual.
@@ -160,6 +162,7 @@ class FloatingFrameBody {
   std::array<double, kInertialLoadCases> end_coefficients_{};
   Vec stiffening_start_, stiffening_end_;
   Eigen::MatrixXd stiffening_by_velocity_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> gravity_rows_;  // A / m: the centre of mass's basis rows
   Vec case_end_;                 // K_c zeta_{n+1}, one load case c
   Eigen::MatrixXd start_cases_;  // r x 12: K_c zeta_n, the step's start, per load case
   Eigen::MatrixXd frame_velocities_, frame_projection_, projected_frame_rows_, reduced_jacobian_;
