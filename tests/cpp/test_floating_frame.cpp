@@ -341,6 +341,33 @@ TEST(revolute_support_swings_a_stiff_body_as_the_rigid_compound_pendulum) {
   CHECK((s.rotation * Vec3::UnitZ() - Vec3::UnitZ()).norm() < 1e-12);  // about its axis only
 }
 
+TEST(held_body_jacobian_carries_the_loads_turn_with_the_frame) {
+  // A soft body swinging on a revolute joint under gravity and a node load (fixed in the world,
+  // then turning with the body): the loads turn in the frame as it swings, and the step's
+  // Jacobian carries that (loads_turn). With it, the first correction after a fresh factor cuts
+  // the residual about as Newton's does (measured: by 4e-6 or more); without it, by 1.8e-4.
+  const FlexibleBody b = flexible_body(3);
+  for (const LoadFrame frame : {LoadFrame::World, LoadFrame::Body}) {
+    FloatingFrameBody body(FloatingFrameInertia(b.X, b.node_mass, b.basis), b.modal_stiffness);
+    body.set_gravity(Vec3(0, -9.81, 0));
+    body.set_support(FrameSupport::Revolute, Vec3::UnitZ());
+    const Index node = b.X.cols() - 1;
+    Nodes point = b.X.col(node), force(3, 1);
+    force << 30.0, -20.0, 5.0;
+    body.set_node_loads(point, b.basis.middleRows(3 * node, 3), force, frame);
+    FloatingFrameState s = body.rest_state();
+    double worst = 0.0;
+    int fresh = 0;
+    for (int step = 0; step < 300; ++step) {
+      const FloatingFrameStepStats stats = body.step(s, 1e-2);
+      if (stats.fresh_rate > 0.0) worst = std::max(worst, stats.fresh_rate), ++fresh;
+    }
+    CHECK(std::abs(std::atan2(s.rotation(1, 0), s.rotation(0, 0))) > 0.3);  // it swung
+    CHECK(fresh > 0);
+    CHECK(worst < 1e-5);
+  }
+}
+
 TEST(prescribed_frame_motion_gives_the_modes_of_the_jointed_body_that_moved_so) {
   // A body on a spherical joint, its frame motion recorded and then prescribed to a twin: the
   // twin's modes follow the first body's to the solver's tolerance (the same modal balance,

@@ -278,10 +278,10 @@ def test_a_second_thread_gets_a_clear_error(link):
 def test_a_stiffened_pendulum_step_converges_with_the_stiffening_in_its_jacobian():
     # The Euler and translation load cases' coefficients are the step's accelerations,
     # (w_{n+1} - w_n) / h: the stiffening moves with the end velocities at O(1), and the step's
-    # Jacobian carries that, and gravity's turn with the frame, which drives a pendulum.
-    # Measured on this 1 m link falling from horizontal (8 modes, 1 ms): 3.0 iterations per step
-    # (the fewest the schedule of jacobian_schedule.hpp takes); with the earlier schedule, 4.3
-    # without gravity's turn and 6.0 without the stiffening's terms either.
+    # Jacobian carries that. Measured on this 1 m link falling from horizontal (8 modes, 1 ms):
+    # 4.1 iterations per step with it, 5.2 without (with the schedule of jacobian_schedule.hpp,
+    # which keeps a factor over steps when that is cheaper; 4.3 against 6.0 with a factor made
+    # at each step's start).
     mesh = cr.box((1.0, 0.05, 0.05), cells=(10, 2, 2), element="hex20", origin=(0.0, -0.025, -0.025))
     body = cr.Body(mesh, cr.Material(E=3e8, nu=0.3, density=7850.0), model="linear")
     basis = craig_bampton(body, mesh.nodes_on_plane("x", 0.0), 8)
@@ -290,4 +290,4 @@ def test_a_stiffened_pendulum_step_converges_with_the_stiffening_in_its_jacobian
     for _ in range(500):
         fb.step()
         iterations += fb.last_iterations
-    assert iterations / 500 < 3.3
+    assert iterations / 500 < 4.7

@@ -340,10 +340,12 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
     stats.residual = evaluate_trial(state, h, start_scale);
     if (stats.residual <= kTolerance) {
       state = trial_;
+      stats.fresh_rate = schedule_.fresh_rate();
       return stats;
     }
     // The Jacobian as jacobian_schedule.hpp says: kept from the last step for the first
-    // correction, factored at the second iterate and kept while the iterations converge fast.
+    // correction, factored at the second iterate (unless keeping it is cheaper) and kept while
+    // the iterations converge fast.
     const JacobianSchedule::Next next = schedule_.after_evaluation(stats.residual);
     if (next == JacobianSchedule::Next::Restart) {
       trial_.velocity = start_velocity_;
@@ -361,9 +363,10 @@ FloatingFrameStepStats FloatingFrameBody::step(FloatingFrameState& state, double
       correction_.tail(r) = reduced_correction_.tail(r);
     }
     trial_.velocity -= correction_;
-    if (schedule_.converged_by_rate(kTolerance)) {
+    if (schedule_.converged_by_rate()) {
       trial_kinematics(state, h);
       state = trial_;
+      stats.fresh_rate = schedule_.fresh_rate();
       return stats;
     }
   }

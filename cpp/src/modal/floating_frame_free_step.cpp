@@ -111,6 +111,7 @@ FloatingFrameStepStats FloatingFrameBody::step_free(FloatingFrameState& state, d
     stats.residual = residual_.norm() / scale;
     if (stats.residual <= kTolerance) {
       state = trial_;
+      stats.fresh_rate = schedule_.fresh_rate();
       return stats;
     }
     const JacobianSchedule::Next next = schedule_.after_evaluation(stats.residual);
@@ -122,9 +123,10 @@ FloatingFrameStepStats FloatingFrameBody::step_free(FloatingFrameState& state, d
     if (next == JacobianSchedule::Next::FactorAndSolve && !factor_free_jacobian(h, V0)) break;
     lu_.solve(residual_, correction_);
     unknown_ -= correction_;
-    if (schedule_.converged_by_rate(kTolerance)) {
+    if (schedule_.converged_by_rate()) {
       end_kinematics();
       state = trial_;
+      stats.fresh_rate = schedule_.fresh_rate();
       return stats;
     }
   }

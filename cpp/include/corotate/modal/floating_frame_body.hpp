@@ -64,6 +64,9 @@ enum class LoadFrame { World, Body };
 struct FloatingFrameStepStats {
   int iterations = 0;
   double residual = 0.0;  // relative, of the last iteration
+  // The residual's reduction one correction after a Jacobian factored in the step (0: none
+  // was; jacobian_schedule.hpp): small as the residual itself where the Jacobian is right.
+  double fresh_rate = 0.0;
 };
 
 class FloatingFrameBody {
@@ -174,7 +177,7 @@ class FloatingFrameBody {
   Eigen::MatrixXd relative_map_, gradient_jacobian_;  // the free step's
   Vec unknown_, w_rel_, w_rel_start_;
   SmallDenseLU lu_;
-  JacobianSchedule schedule_;                       // when lu_ is factored (kept across steps)
+  JacobianSchedule schedule_{kTolerance};                       // when lu_ is factored (kept across steps)
   static constexpr int kFreeStep = 0, kDrivenStep = 4;  // schedule_'s kinds; held: 1 + FrameSupport
   Vec start_unknown_, start_velocity_;              // a step's start guesses, for a restart
   Vec residual_, correction_;
