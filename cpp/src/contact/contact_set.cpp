@@ -180,13 +180,15 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
   }
   if (!parts_.empty()) {
     // Each part's surface where its free flight takes it, moving there with that velocity.
-    for (const PartSurface& part : parts_) {
-      Nodes ends(3, static_cast<Index>(part.nodes.size())), velocities(3, ends.cols());
-      for (Index k = 0; k < ends.cols(); ++k) {
-        velocities.col(k) = v.col(part.nodes[k]) + dt * gravity;
-        ends.col(k) = x.col(part.nodes[k]) + dt * velocities.col(k);
+    for (PartSurface& part : parts_) {
+      const Index count = static_cast<Index>(part.nodes.size());
+      part.ends.resize(3, count);  // (sized once)
+      part.velocities.resize(3, count);
+      for (Index k = 0; k < count; ++k) {
+        part.velocities.col(k) = v.col(part.nodes[k]) + dt * gravity;
+        part.ends.col(k) = x.col(part.nodes[k]) + dt * part.velocities.col(k);
       }
-      part.mesh->set_vertices(ends, &velocities);
+      part.mesh->move_owned_vertices(part.ends, part.velocities);
     }
     const Pose identity;
     for (Index i : nodes_)

@@ -80,6 +80,30 @@ std::vector<int> edge_neighbours(const Triangles& triangles) {
 
 }  // namespace
 
+namespace {
+
+// The face normals and the angle-weighted vertex normals of `vertices` into storage of the
+// right sizes (no allocation).
+void compute_normals(const Nodes& vertices, const Triangles& tris, std::vector<Vec3>& face_normals,
+                     std::vector<Vec3>& vertex_normals) {
+  std::fill(vertex_normals.begin(), vertex_normals.end(), Vec3::Zero());
+  for (size_t t = 0; t < tris.size(); ++t) {
+    const Vec3 n = (vertices.col(tris[t][1]) - vertices.col(tris[t][0]))
+                       .cross(vertices.col(tris[t][2]) - vertices.col(tris[t][0]));
+    const double length = n.norm();
+    face_normals[t] = length > 0 ? Vec3(n / length) : Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e1 = vertices.col(tris[t][(k + 1) % 3]) - vertices.col(tris[t][k]);
+      const Vec3 e2 = vertices.col(tris[t][(k + 2) % 3]) - vertices.col(tris[t][k]);
+      vertex_normals[tris[t][k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * face_normals[t];
+    }
+  }
+  for (Vec3& n : vertex_normals)
+    if (n.norm() > 0) n.normalize();
+}
+
+}  // namespace
+
 std::shared_ptr<TriangleMesh::Geometry> TriangleMesh::make_geometry(
     const Nodes& vertices, const Nodes& velocities, std::shared_ptr<const Triangles> triangles,
     std::shared_ptr<const std::vector<int>> edge_neighbours, const TriangleBvh* bvh) {
@@ -90,20 +114,8 @@ std::shared_ptr<TriangleMesh::Geometry> TriangleMesh::make_geometry(
   g->edge_neighbours = std::move(edge_neighbours);
   const Triangles& tris = *g->triangles;
   g->face_normals.resize(tris.size());
-  g->vertex_normals.assign(vertices.cols(), Vec3::Zero());
-  for (size_t t = 0; t < tris.size(); ++t) {
-    const Vec3 n = (vertices.col(tris[t][1]) - vertices.col(tris[t][0]))
-                       .cross(vertices.col(tris[t][2]) - vertices.col(tris[t][0]));
-    const double length = n.norm();
-    g->face_normals[t] = length > 0 ? Vec3(n / length) : Vec3::Zero();
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 e1 = vertices.col(tris[t][(k + 1) % 3]) - vertices.col(tris[t][k]);
-      const Vec3 e2 = vertices.col(tris[t][(k + 2) % 3]) - vertices.col(tris[t][k]);
-      g->vertex_normals[tris[t][k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * g->face_normals[t];
-    }
-  }
-  for (Vec3& n : g->vertex_normals)
-    if (n.norm() > 0) n.normalize();
+  g->vertex_normals.resize(vertices.cols());
+  compute_normals(vertices, tris, g->face_normals, g->vertex_normals);
   if (bvh) {
     g->bvh = *bvh;
     g->bvh.refit(vertices, tris);
@@ -111,6 +123,18 @@ std::shared_ptr<TriangleMesh::Geometry> TriangleMesh::make_geometry(
     g->bvh = TriangleBvh(vertices, tris);
   }
   return g;
+}
+
+void TriangleMesh::move_owned_vertices(const Nodes& vertices, const Nodes& velocities) {
+  // geometry_ was made non-const (make_geometry) and no other thread reads this mesh.
+  Geometry& g = const_cast<Geometry&>(*geometry_);
+  if (vertices.cols() != g.vertices.cols() || velocities.cols() != g.vertices.cols())
+    throw InvalidInput("the surface mesh has " + std::to_string(g.vertices.cols()) + " vertices, not " +
+                       std::to_string(vertices.cols()));
+  g.vertices = vertices;
+  g.velocities = velocities;
+  compute_normals(g.vertices, *g.triangles, g.face_normals, g.vertex_normals);
+  g.bvh.refit(g.vertices, *g.triangles);
 }
 
 TriangleMesh::TriangleMesh(const Nodes& vertices, const Triangles& input) {

@@ -74,8 +74,12 @@ struct ObstacleLink {
 
 // The closed surface of one part of the body, as the other parts see it.
 struct PartSurface {
-  std::shared_ptr<TriangleMesh> mesh;  // vertices: the part's surface nodes, in this order
-  std::vector<Index> nodes;            // mesh vertex -> body node
+  // Vertices: the part's surface nodes, in this order. Private to the simulation, which moves
+  // it in place each step (TriangleMesh::move_owned_vertices; a failed step's backup of the
+  // contact set shares it, as the next step moves it again from the nodes).
+  std::shared_ptr<TriangleMesh> mesh;
+  std::vector<Index> nodes;  // mesh vertex -> body node
+  Nodes ends, velocities;    // the step's predicted vertices and their velocities (work space)
 };
 
 // One active contact of the step.

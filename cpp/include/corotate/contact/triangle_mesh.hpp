@@ -40,6 +40,10 @@ class TriangleMesh final : public Obstacle {
   // Moves the vertices (same count, own frame), with their velocities (zero if null). Throws
   // InvalidInput for a wrong count or a non-finite value; the mesh is then unchanged.
   void set_vertices(const Nodes& vertices, const Nodes* velocities = nullptr);
+  // The same for a mesh that only its owner reads, from one thread (a part's surface inside
+  // its simulation, moved every step): in place, without the new geometry set_vertices
+  // allocates so that readers in other threads see either whole. Values unchecked.
+  void move_owned_vertices(const Nodes& vertices, const Nodes& velocities);
   Nodes vertices() const;
   Triangles triangles() const;  // outward oriented (possibly reversed from the input)
 
