@@ -64,8 +64,10 @@ class JacobianSchedule {
     }
     rate_ = evaluations_ > 1 ? residual / last_ : 1.0;
     if (factored_at_ > 0 && evaluations_ == factored_at_ + 1) fresh_rate_ = step_fresh_rate_ = rate_;
-    // A kept factor whose rate falls 10x behind what justified keeping it is dropped too.
-    bool factor = evaluations_ == 1 ? !reuse_ : rate_ > 0.25 || (factored_at_ == 0 && rate_ > 10.0 * kept_rate_);
+    // Later, a kept factor whose rate falls 10x behind what justified keeping it (its rate at
+    // the second evaluation) is dropped too.
+    const bool kept_fell_behind = evaluations_ > 2 && factored_at_ == 0 && rate_ > 10.0 * kept_rate_;
+    bool factor = evaluations_ == 1 ? !reuse_ : rate_ > 0.25 || kept_fell_behind;
     if (evaluations_ == 2 && !factor) {
       factor = !reuse_ || corrections(residual, rate_) > kFactorCost + corrections(residual, fresh_rate_);
       kept_rate_ = rate_;
