@@ -40,12 +40,12 @@ def test_exudyn_s_ffrf_body_follows_the_full_co_rotational_link(tmp_path):
     # The linear one keeps the exact energy of its kinematics (measured 1e-7 of m g L / 2 over 2 s).
     linear = table["corotate FFRF, linear, 8 modes"]
     assert float(linear["max_energy_change_over_mgL2"]) < 1e-5
-    # Exudyn runs the same model from the exported basis: its path within 1e-6 L of corotate's
-    # and its energy kept to 1e-6 over 2 s (measured). Gravity as Exudyn's own mass-proportional
-    # load lost 1e-3 of the energy by 0.25 s and lay 3e-3 L off; 1e-4 separates the two.
+    # Exudyn runs the same model from the exported basis: by 0.25 s its path is within 1.1e-7 L
+    # of corotate's and its energy kept to 5.7e-7 (measured). With gravity as Exudyn's own
+    # mass-proportional load the export gave 1.9e-4 L and 1.6e-3.
     exudyn = table["Exudyn FFRF, root face, 8 modes"]
-    assert float(exudyn["max_gap_to_corotate_ffrf_over_L"]) < 1e-4
-    assert float(exudyn["max_energy_change_over_mgL2"]) < 1e-4
+    assert float(exudyn["max_gap_to_corotate_ffrf_over_L"]) < 1e-5
+    assert float(exudyn["max_energy_change_over_mgL2"]) < 1e-5
     paths = np.loadtxt(tmp_path / "tip_paths.csv", delimiter=",", skiprows=1)
     t, x, z = paths[:, 0], paths[:, 1], paths[:, 2]
     np.testing.assert_allclose([x[0], z[0]], [L, 0.0], atol=1e-14)

@@ -17,6 +17,8 @@ FloatingFrameBody::FloatingFrameBody(FloatingFrameInertia inertia, Eigen::Matrix
     throw InvalidInput("floating frame: the modal damping must be " + std::to_string(r) + " x " + std::to_string(r));
   if (!stiffness_.allFinite() || !damping_.allFinite())
     throw InvalidInput("floating frame: the modal stiffness and damping must be finite");
+  gravity_rows_.resize(3, r);
+  for (Index k = 0; k < r; ++k) gravity_rows_.col(k) = inertia_.modal_first_moment(k) / inertia_.mass();
 }
 
 FloatingFrameState FloatingFrameBody::rest_state() const {
@@ -405,8 +407,6 @@ void FloatingFrameBody::loads_turn(double h, const Mat3& tangent) {
   };
   if (gravity_.squaredNorm() > 0.0) {
     const double m = inertia_.mass();
-    gravity_rows_.resize(3, r);
-    for (Index k = 0; k < r; ++k) gravity_rows_.col(k) = inertia_.modal_first_moment(k) / m;
     world_force(m * gravity_, inertia_.first_moment(trial_.zeta) / m, gravity_rows_);
   }
   for (Index i = 0; i < load_points_.cols(); ++i) {
