@@ -523,3 +523,131 @@ TEST(preconditioners_ask_for_the_lower_blocks_only_when_they_build) {
   CHECK(!pcg.needs_lower_blocks());
   CHECK(DirectSolver().needs_lower_blocks());
 }
+
+namespace {
+
+// A free beam's system with stiff contact springs k n n^T (k a hundred times the node's own
+// diagonal) on its floor (z = 0) and on one side (y = 0), as the contact step adds them.
+struct ContactProblem {
+  fixtures::Mesh mesh = fixtures::tet_beam(12, 3, 3);
+  fixtures::System own = fixtures::implicit_system(mesh, Material{1e7, 0.3, 1000.0}, 0.01);
+  DiagonalTerms floor, side;
+  BlockSparseMatrix with(const std::vector<const DiagonalTerms*>& all) const {
+    BlockSparseMatrix A = own.A;
+    for (const DiagonalTerms* terms : all)
+      for (size_t k = 0; k < terms->nodes.size(); ++k) A.block(A.diagonal_block(terms->nodes[k])) += terms->blocks[k];
+    return A;
+  }
+  ContactProblem() {
+    for (Index i = 0; i < mesh.points.cols(); ++i) {
+      const double k = 100 * own.A.block(own.A.diagonal_block(i)).trace() / 3;
+      if (mesh.points(2, i) == 0) {
+        floor.nodes.push_back(i);
+        floor.blocks.push_back(k * Vec3::UnitZ() * Vec3::UnitZ().transpose());
+      }
+      if (mesh.points(1, i) == 0) {
+        side.nodes.push_back(i);
+        side.blocks.push_back(k * Vec3::UnitY() * Vec3::UnitY().transpose());
+      }
+    }
+  }
+};
+
+}  // namespace
+
+TEST(two_level_coarse_level_takes_the_contact_terms) {
+  // Without the springs in its coarse matrix, the coarse correction pushes whole aggregates
+  // into the floor that holds them.
+  const ContactProblem p;
+  DiagonalTerms both = p.floor;
+  both.nodes.insert(both.nodes.end(), p.side.nodes.begin(), p.side.nodes.end());
+  both.blocks.insert(both.blocks.end(), p.side.blocks.begin(), p.side.blocks.end());
+  const BlockSparseMatrix A = p.with({&both});
+  const Vec b = fixtures::random_matrix<Vec>(A.num_dofs(), 1);
+  Eigen::MatrixXd dense = p.own.dense;
+  for (size_t k = 0; k < both.nodes.size(); ++k)
+    dense.block<3, 3>(3 * both.nodes[k], 3 * both.nodes[k]) += both.blocks[k];
+  const Vec exact = dense.llt().solve(b);
+  auto solve = [&](bool build_without, bool tell) {
+    PCG pcg(PCGSettings{2000, 1e-9, false, PreconditionerKind::TwoLevel});
+    pcg.set_geometry(p.mesh.points);
+    Vec x;
+    if (build_without) pcg.solve(p.own.A, b, x);  // the hierarchy from the body's own system
+    if (tell) pcg.set_diagonal_terms(&both);
+    const int iterations = pcg.solve(A, b, x).iterations;
+    CHECK_NEAR((x - exact).norm(), 0.0, 1e-6 * exact.norm());
+    return iterations;
+  };
+  const int blind = solve(true, false), told = solve(true, true), built_with = solve(false, true);
+  std::printf("  CG to 1e-9: %d iterations without the terms, %d with; %d with the hierarchy built on them\n", blind,
+              told, built_with);
+  CHECK(3 * told <= blind);
+  // The hierarchy leaves the first system's terms out: the same preconditioner either way.
+  CHECK(built_with == told);
+}
+
+TEST(two_level_refactorizes_for_contact_terms_only_when_it_pays) {
+  const ContactProblem p;
+  const BlockSparseMatrix on_floor = p.with({&p.floor}), on_side = p.with({&p.side});
+  const Vec b = fixtures::random_matrix<Vec>(on_floor.num_dofs(), 1);
+  TwoLevelPreconditioner pc;
+  pc.set_geometry(p.mesh.points);
+  auto solve = [&](const BlockSparseMatrix& A, const DiagonalTerms* terms) {
+    pc.set_diagonal_terms(terms);
+    pc.compute(A);
+    // a fixed count of applications per solve, like a capped CG: what the factor costs
+    Vec r = b, z;
+    for (int k = 0; k < (terms == &p.side ? 25 : 3); ++k) pc.apply(r, z);
+    pc.solved(true);
+  };
+  solve(p.own.A, nullptr);
+  CHECK(pc.coarse_refactorizations() == 0);  // no terms: the factor of the build
+  solve(on_floor, &p.floor);
+  CHECK(pc.coarse_refactorizations() == 1);  // the first terms
+  for (int k = 0; k < 20; ++k) solve(on_floor, &p.floor);
+  CHECK(pc.coarse_refactorizations() == 1);  // the same terms, as cheap as the first solve
+  // Other terms whose solves cost more (25 applications against 3) refactorize once the
+  // excess adds up to a refactorization's worth (coarse unknowns / 30, at least 10).
+  int solves = 0;
+  while (pc.coarse_refactorizations() == 1 && solves < 50) {
+    solve(on_side, &p.side);
+    ++solves;
+  }
+  std::printf("  refactorized after %d solves with other terms\n", solves);
+  CHECK(pc.coarse_refactorizations() == 2);
+  CHECK(solves >= 2 && solves <= 3);
+}
+
+TEST(two_level_restores_a_contact_factor_refactorized_in_a_failed_call) {
+  // A call that refactorized the coarse level for other terms and then failed leaves the
+  // preconditioner as a twin that never made it: the same output to the last bit.
+  const ContactProblem p;
+  const BlockSparseMatrix on_floor = p.with({&p.floor}), on_side = p.with({&p.side});
+  const Vec r = fixtures::random_matrix<Vec>(on_floor.num_dofs(), 1);
+  TwoLevelPreconditioner twin, failed;
+  Vec z;
+  for (TwoLevelPreconditioner* pc : {&twin, &failed}) {
+    pc->set_geometry(p.mesh.points);
+    pc->set_diagonal_terms(&p.floor);
+    pc->compute(on_floor);
+    pc->apply(r, z);
+    pc->solved(true);
+  }
+  failed.save_state();
+  failed.set_diagonal_terms(&p.side);
+  for (int k = 0; k < 5; ++k) {  // costly solves: it refactorizes for the side's terms
+    failed.compute(on_side);
+    for (int a = 0; a < 25; ++a) failed.apply(r, z);
+    failed.solved(false);
+  }
+  CHECK(failed.coarse_refactorizations() == 2);
+  failed.restore_state();
+  CHECK(failed.coarse_refactorizations() == 1);
+  Vec z_twin, z_failed;
+  for (auto [pc, out] : {std::make_pair(&twin, &z_twin), std::make_pair(&failed, &z_failed)}) {
+    pc->set_diagonal_terms(&p.floor);
+    pc->compute(on_floor);
+    pc->apply(r, *out);
+  }
+  CHECK(z_twin == z_failed);
+}

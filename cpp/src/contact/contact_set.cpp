@@ -291,6 +291,8 @@ void ContactSet::add_blocks(const Contact& c, const Mat3& h, size_t k, BlockSpar
   const auto add = [&](Index node, double scale) {
     if (single) single->add_to_diagonal_block(node, scale * h);
     else A->block(A->diagonal_block(node)) += scale * h;
+    diagonal_terms_.nodes.push_back(node);
+    diagonal_terms_.blocks.push_back(scale * h);
   };
   add(c.node, 1);
   if (!c.coupled()) return;
@@ -303,6 +305,7 @@ void ContactSet::add_stiffness(const Nodes& y, double scale, BlockSparseMatrix& 
   Mat3 h;
   coupling_.resize(contacts_.size());
   coupled_ = false;
+  diagonal_terms_.clear();
   linearized_ = false;
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const Contact& c = contacts_[k];
@@ -317,6 +320,7 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
   coupling_.resize(contacts_.size());
   secant_.assign(contacts_.size(), 0.0);
   coupled_ = false;
+  diagonal_terms_.clear();
   linearized_ = true;
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const Contact& c = contacts_[k];

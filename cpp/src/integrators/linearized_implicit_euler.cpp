@@ -93,7 +93,8 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       if (in.has_contacts() && (pass > 0 || in.contacts->has_impacts()))
         in.solver.request_accuracy(kContactTolerance, kContactIterations);
       // Contacts between parts of the body couple nodes outside the pattern: the solve adds them.
-      const CouplingScope coupling(in.solver, in.has_contacts() && in.contacts->has_coupling() ? in.contacts : nullptr);
+      const CouplingScope coupling(in.solver, in.has_contacts() && in.contacts->has_coupling() ? in.contacts : nullptr,
+                                   in.has_contacts() ? &in.contacts->diagonal_terms() : nullptr);
       try {
         stats.solve = single ? in.solver.solve_single_precision(rhs_, dv_) : in.solver.solve(system_, rhs_, dv_);
       } catch (const NotPositiveDefinite& e) {

@@ -182,7 +182,8 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
     // Contacts between parts of the body couple nodes outside the pattern: the solver adds
     // them (the LU of a non-symmetric tangent does not: its Newton steps then use the
     // contacts' diagonal blocks alone, and the line search keeps them descending).
-    const CouplingScope coupling(in.solver, in.has_contacts() && in.contacts->has_coupling() ? in.contacts : nullptr);
+    const CouplingScope coupling(in.solver, in.has_contacts() && in.contacts->has_coupling() ? in.contacts : nullptr,
+                                 in.has_contacts() ? &in.contacts->diagonal_terms() : nullptr);
     try {
       // A non-symmetric tangent (ForceModel::symmetric_tangent) by sparse LU, else the
       // step's solver.

@@ -66,6 +66,13 @@ BlockProlongator::BlockProlongator(const ScalarMatrix& P, const std::vector<int>
   padded_.setZero(kRow * m);
 }
 
+Eigen::Matrix<double, 3, 6> BlockProlongator::block(int k) const {
+  Eigen::Matrix<double, 3, 6> out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 6; ++c) out(r, c) = values_[kBlockValues * size_t(k) + kRow * r + c];
+  return out;
+}
+
 // Both products take a block row and an aggregate's eight padded coarse values as one
 // eight-wide vector each (the padding is zero on both sides): three multiply-adds per block,
 // where the 3 x 6 scalar loop compiled to shuffles around four-wide pieces (9.5 % of a step

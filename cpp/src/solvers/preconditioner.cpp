@@ -130,6 +130,7 @@ void AutoPreconditioner::compute(const BlockSparseMatrix& A) {
     chosen_->set_single_precision_products(single_);
     if (positions_.cols() != 0) chosen_->set_positions(positions_);
     positions_ = Nodes();
+    chosen_->set_diagonal_terms(terms_);
   }
   chosen_->compute(A);
 }

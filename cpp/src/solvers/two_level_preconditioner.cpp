@@ -1,7 +1,9 @@
 #include "corotate/solvers/two_level_preconditioner.hpp"
 
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "corotate/parallel.hpp"
 
@@ -120,18 +122,146 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   const SparseMatrix restriction = prolongation.transpose();
   coarse_ = Eigen::SparseMatrix<double, Eigen::ColMajor, int>(restriction * (A * prolongation));
   prolongator_ = BlockProlongator(prolongation, coarse_start);
+  coarse_start_ = coarse_start;
+  // The contact terms' copy of the coarse matrix (same pattern) and their bookkeeping.
+  coarse_with_terms_ = coarse_;
+  factored_with_terms_ = false;
+  refactored_since_save_ = false;  // (a new hierarchy: no earlier factor to restore)
+  excess_applies_ = 0;
+  fewest_applies_ = std::numeric_limits<long>::max();
+  node_mark_.assign(n, 0);
+  // A refactorization's cost in applications: the coarse matrix is nearly dense (948
+  // unknowns and 188,124 entries at 15,360 tets, whose factorization took 14-17 ms against
+  // 0.47 ms per CG iteration), so it grows faster than an application; coarse unknowns / 30
+  // is that measurement, and an underestimate on larger meshes (refactorizing more often).
+  refactor_cost_in_applies_ = std::max<long>(10, coarse_dofs / 30);
+
   // The coarse solve reads the whole factor twice per application: a float copy halves
   // that (1e-7 relative changes to a preconditioner; same iterations, bench/README.md).
   coarse_factor_.set_single_precision_solve(true);
   coarse_factor_.analyze(coarse_);
-  if (!coarse_factor_.factorize(coarse_))
-    throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
+  factorize_coarse(coarse_);
   turned_.resize(dofs);
   z4_.assign(4 * n, 0.0f);
   y4_.assign(4 * n, 0.0f);
   coarse_rhs_.resize(coarse_dofs);
   coarse_solution_.resize(coarse_dofs);
   ready_ = true;
+}
+
+void TwoLevelPreconditioner::factorize_coarse(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& coarse) {
+  if (!coarse_factor_.factorize(coarse))
+    throw NotPositiveDefinite("two-level preconditioner: the coarse matrix is not positive definite");
+}
+
+void TwoLevelPreconditioner::update_coarse_terms() {
+  const bool any = terms_ && !terms_->empty();
+  // Refactorize when the terms first appear (without them the coarse correction pushes
+  // aggregates into the floor that holds them), and when the applications the factor cost
+  // beyond the fewest one solve took since it was made (plus one: solves vary by one or two
+  // as contacts come and go) add up to a refactorization's worth: a landing, a body lifted
+  // off, a tool pushed somewhere else. Not at every change: contacts come and go from step to
+  // step (the sides of the beam lying between two walls graze them and flip a third of its
+  // aggregates every step), and a refactorization costs many steps' coarse solves.
+  const bool refactor =
+      (any && !factored_with_terms_) || (factored_with_terms_ && excess_applies_ > refactor_cost_in_applies_);
+  if (refactor) {
+    if (!refactored_since_save_) {  // what a failed call restores
+      saved_coarse_values_.assign(coarse_with_terms_.valuePtr(),
+                                  coarse_with_terms_.valuePtr() + coarse_with_terms_.nonZeros());
+      refactored_since_save_ = true;
+    }
+    add_terms_to_coarse(any);
+    factorize_coarse(any ? coarse_with_terms_ : coarse_);
+    factored_with_terms_ = any;
+    ++refactorizations_;
+    excess_applies_ = 0;
+    fewest_applies_ = std::numeric_limits<long>::max();
+  }
+  if (terms_) previous_terms_ = *terms_;  // (reuses its storage)
+  else previous_terms_.clear();
+  applies_ = 0;
+}
+
+void TwoLevelPreconditioner::save_state() {
+  rotations_.save_state();
+  saved_.previous_terms = previous_terms_;  // (reuses its storage)
+  saved_.factored_with_terms = factored_with_terms_;
+  saved_.excess_applies = excess_applies_;
+  saved_.fewest_applies = fewest_applies_;
+  saved_.refactorizations = refactorizations_;
+  refactored_since_save_ = false;
+}
+
+void TwoLevelPreconditioner::restore_state() {
+  rotations_.restore_state();
+  previous_terms_ = saved_.previous_terms;
+  factored_with_terms_ = saved_.factored_with_terms;
+  excess_applies_ = saved_.excess_applies;
+  fewest_applies_ = saved_.fewest_applies;
+  refactorizations_ = saved_.refactorizations;
+  if (refactored_since_save_ && Index(saved_coarse_values_.size()) == coarse_with_terms_.nonZeros()) {
+    // the factor of before the failed call, made again
+    std::copy(saved_coarse_values_.begin(), saved_coarse_values_.end(), coarse_with_terms_.valuePtr());
+    factorize_coarse(factored_with_terms_ ? coarse_with_terms_ : coarse_);
+    refactored_since_save_ = false;
+  }
+}
+
+void TwoLevelPreconditioner::solved(bool /*converged*/) {
+  if (!factored_with_terms_) return;
+  fewest_applies_ = std::min(fewest_applies_, applies_);
+  excess_applies_ += std::max(0L, applies_ - fewest_applies_ - 1);
+}
+
+void TwoLevelPreconditioner::add_terms_to_coarse(bool any) {
+  std::copy(coarse_.valuePtr(), coarse_.valuePtr() + coarse_.nonZeros(), coarse_with_terms_.valuePtr());
+  if (!any) return;
+  add_terms(*terms_, nullptr);
+  // The factor covers the last solve's terms too (those of nodes not in this one): a
+  // contact that flips on and off from step to step is then in the factor in both phases,
+  // where it only makes the coarse level a little stiffer. On the beam between walls
+  // (bench/contact_step.py): 2-5 CG iterations per step against 7-8 without.
+  std::fill(node_mark_.begin(), node_mark_.end(), 0);
+  for (Index i : terms_->nodes) node_mark_[i] = 1;
+  add_terms(previous_terms_, &node_mark_);
+}
+
+void TwoLevelPreconditioner::add_terms(const DiagonalTerms& terms, const std::vector<char>* skip) {
+  // The factor is rare, so it takes the terms through the smoothed P (Galerkin, exact):
+  // P_i^T R^T H_i R P_i for node i's row of (aggregate) blocks, R the rotation of node i's
+  // aggregate (the coarse correction works in that frame, apply()).
+  const std::vector<int>& aggregate = rotations_.aggregate_of_node();
+  const bool rotated = rotations_.rotated();
+  const int* outer = coarse_with_terms_.outerIndexPtr();
+  const int* inner = coarse_with_terms_.innerIndexPtr();
+  double* values = coarse_with_terms_.valuePtr();
+  for (size_t t = 0; t < terms.nodes.size(); ++t) {
+    const Index i = terms.nodes[t];
+    if (skip && (*skip)[i]) continue;
+    const Mat3& rotation = rotations_.rotation(aggregate[i]);
+    const Mat3 h = rotated ? Mat3(rotation.transpose() * terms.blocks[t] * rotation) : terms.blocks[t];
+    for (int k1 = prolongator_.node_begin(i); k1 < prolongator_.node_end(i); ++k1) {
+      const int a = prolongator_.block_aggregate(k1), first_a = coarse_start_[a];
+      const int rank_a = coarse_start_[a + 1] - first_a;
+      const Eigen::Matrix<double, 6, 3> left = prolongator_.block(k1).transpose() * h;
+      for (int k2 = prolongator_.node_begin(i); k2 < prolongator_.node_end(i); ++k2) {
+        const int b = prolongator_.block_aggregate(k2), first_b = coarse_start_[b];
+        const Eigen::Matrix<double, 6, 6> product = left * prolongator_.block(k2);
+        for (int c = 0; c < coarse_start_[b + 1] - first_b; ++c) {
+          const int col = first_b + c;
+          // Aggregates a and b share node i, so P^T A P has their whole block (a's coarse
+          // DOFs are consecutive rows of the column).
+          const int* row = std::lower_bound(inner + outer[col], inner + outer[col + 1], first_a);
+          for (int r = 0; r < rank_a; ++r, ++row) {
+            if (row == inner + outer[col + 1] || *row != first_a + r)
+              throw InvalidInput("two-level preconditioner: a contact term outside the coarse pattern");
+            values[row - inner] += product(r, c);
+          }
+        }
+      }
+    }
+  }
 }
 
 void TwoLevelPreconditioner::set_positions(const Nodes& x) {
@@ -149,7 +279,24 @@ void TwoLevelPreconditioner::turn(Index num_nodes) {
 
 void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
   turn(A.num_nodes());  // before the build, only checks the positions (the build starts there)
-  if (!ready_) setup(A);
+  if (!ready_) {
+    if (terms_ && !terms_->empty()) {  // the hierarchy of the body's own system
+      // (not in the fixed DOFs' identity rows, which the build recognises as fixed)
+      const std::vector<char> fixed = decoupled_dofs(A);
+      BlockSparseMatrix own = A;
+      for (size_t k = 0; k < terms_->nodes.size(); ++k) {
+        const Index i = terms_->nodes[k];
+        auto block = own.block(own.diagonal_block(i));
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            if (!fixed[3 * i + r] && !fixed[3 * i + c]) block(r, c) -= terms_->blocks[k](r, c);
+      }
+      setup(own);
+    } else {
+      setup(A);
+    }
+  }
+  update_coarse_terms();
   A_single_.assign(A);
   diagonal_.compute(A);
 }
@@ -157,6 +304,7 @@ void TwoLevelPreconditioner::compute(const BlockSparseMatrix& A) {
 void TwoLevelPreconditioner::compute_assembled() {
   if (!ready_) throw InvalidInput("two_level preconditioner: a float32 system before the hierarchy was built");
   turn(A_single_.num_nodes());
+  update_coarse_terms();
   diagonal_.compute(A_single_);
 }
 
@@ -165,6 +313,7 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   // the fine vectors is fused with its neighbours, node by node: the two products read and
   // write the four-per-node vectors directly, the residual r - A z is formed as the product
   // is read back, and turned into the aggregates' build frame in the same loop.
+  ++applies_;
   const Index n = A_single_.num_nodes();
   const bool rotated = rotations_.rotated();
   const std::vector<int>& aggregate = rotations_.aggregate_of_node();

@@ -175,6 +175,9 @@ class ContactSet final : public SystemCoupling {
   // Whether this step has contacts between parts, whose coupling blocks the solve needs
   // (set by add_stiffness and add_linearized: the blocks of the last one called).
   bool has_coupling() const { return coupled_; }
+  // The diagonal blocks the last add_stiffness / add_linearized added (scaled), for a
+  // solver's coarse level (solvers/diagonal_terms.hpp).
+  const DiagonalTerms& diagonal_terms() const { return diagonal_terms_; }
   // y += C x: the Hessian's blocks between a node and the corners it touches, and between
   // the corners (scaled as in the last add_stiffness / add_linearized).
   void multiply_add(const Vec& x, Vec& y) const override;
@@ -204,6 +207,7 @@ class ContactSet final : public SystemCoupling {
   std::vector<char> fixed_;                 // per node
   mutable std::vector<Mat3> coupling_;      // per contact: H of the last assembly (scaled)
   mutable bool coupled_ = false;
+  mutable DiagonalTerms diagonal_terms_;    // the diagonal blocks of the last assembly
   mutable std::vector<double> secant_;      // per contact: friction's secant damping (add_linearized)
   mutable bool linearized_ = false;         // the last assembly was add_linearized's
   Vec masses_, node_stiffness_, node_sizes_;

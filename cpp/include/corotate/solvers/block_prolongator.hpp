@@ -34,6 +34,13 @@ class BlockProlongator {
   Index num_blocks() const { return static_cast<Index>(block_aggregate_.size()); }
   Index coarse_size() const { return coarse_start_.empty() ? 0 : coarse_start_.back(); }
 
+  // Node i's blocks are [node_begin(i), node_end(i)); block k's aggregate and its values
+  // (columns beyond the aggregate's coarse DOFs are zero).
+  int node_begin(Index i) const { return node_start_[i]; }
+  int node_end(Index i) const { return node_start_[i + 1]; }
+  int block_aggregate(int k) const { return block_aggregate_[k]; }
+  Eigen::Matrix<double, 3, 6> block(int k) const;
+
   // fine = P coarse, or fine += P coarse when add. No allocation after the first call.
   void prolong(const Vec& coarse, Vec& fine, bool add);
   // coarse = P^T fine.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "corotate/fem/fixed_dofs.hpp"
+#include "corotate/solvers/diagonal_terms.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
 
 namespace corotate {
@@ -43,6 +44,8 @@ class LinearSolver {
   // solver factorizes A and iterates on the rest (CG preconditioned by that factor).
   void set_coupling(const SystemCoupling* coupling) { coupling_ = coupling; }
   const SystemCoupling* coupling() const { return coupling_; }
+  // The next solves' diagonal terms (null: none), kept alive and cleared like the coupling.
+  virtual void set_diagonal_terms(const DiagonalTerms* terms) { diagonal_terms_ = terms; }
   // Forget everything cached about earlier systems (pattern, constraints or dt changed).
   virtual void reset() = 0;
   // The fixed DOFs of the systems to come changed (their rows and columns are projected out:
@@ -84,15 +87,22 @@ class LinearSolver {
 
  protected:
   const SystemCoupling* coupling_ = nullptr;
+  const DiagonalTerms* diagonal_terms_ = nullptr;
 };
 
-// Sets a solver's coupling for a scope (the solves of one step) and clears it after.
+// Sets a solver's coupling and diagonal terms for a scope (the solves of one step) and
+// clears them after.
 class CouplingScope {
  public:
-  CouplingScope(LinearSolver& solver, const SystemCoupling* coupling) : solver_(solver) {
+  CouplingScope(LinearSolver& solver, const SystemCoupling* coupling, const DiagonalTerms* terms = nullptr)
+      : solver_(solver) {
     solver_.set_coupling(coupling);
+    solver_.set_diagonal_terms(terms);
   }
-  ~CouplingScope() { solver_.set_coupling(nullptr); }
+  ~CouplingScope() {
+    solver_.set_coupling(nullptr);
+    solver_.set_diagonal_terms(nullptr);
+  }
   CouplingScope(const CouplingScope&) = delete;
   CouplingScope& operator=(const CouplingScope&) = delete;
 

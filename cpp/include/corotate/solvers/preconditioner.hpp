@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "corotate/solvers/block_cholesky.hpp"
+#include "corotate/solvers/diagonal_terms.hpp"
 #include "corotate/solvers/node_rotations.hpp"
 #include "corotate/sparse/single_precision_symmetric.hpp"
 
@@ -22,6 +23,9 @@ class Preconditioner {
   // Node positions (3 x n) the next system is assembled at, for preconditioners that follow
   // the body's rotation.
   virtual void set_positions(const Nodes&) {}
+  // The diagonal terms (diagonal_terms.hpp) in the systems of the next compute() calls, or
+  // null; the caller keeps them alive. Only a coarse level built once needs them.
+  virtual void set_diagonal_terms(const DiagonalTerms*) {}
   // Called once per solve with the current system matrix.
   virtual void compute(const BlockSparseMatrix& A) = 0;
   // z = P^-1 r.
@@ -180,6 +184,10 @@ class AutoPreconditioner final : public Preconditioner {
     if (chosen_) chosen_->set_positions(x);
     else positions_ = x;
   }
+  void set_diagonal_terms(const DiagonalTerms* terms) override {  // kept for the choice
+    terms_ = terms;
+    if (chosen_) chosen_->set_diagonal_terms(terms);
+  }
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override { chosen_->apply(r, z); }
   void solved(bool converged) override { chosen_->solved(converged); }
@@ -214,6 +222,7 @@ class AutoPreconditioner final : public Preconditioner {
   PreconditionerKind kind_ = PreconditionerKind::Auto;
   Nodes rest_, positions_;  // passed on to the one chosen
   bool single_ = true;
+  const DiagonalTerms* terms_ = nullptr;
 };
 
 const std::vector<std::string>& preconditioner_names();  // in the order of PreconditionerKind
