@@ -7,7 +7,9 @@ from __future__ import annotations
 import contextlib
 import functools
 import os
+import signal
 import sys
+import threading
 import time
 import uuid
 import warnings
@@ -165,6 +167,31 @@ def run_sweep(
     )
 
 
+@contextlib.contextmanager
+def _ctrl_c_remembered() -> Any:
+    """Within it, Ctrl-C (SIGINT) raises KeyboardInterrupt as usual and is also remembered (the
+    event it yields is set), so that one that code between the sweep's own lines swallowed is
+    raised again at the next finished task: the interrupted command of the tests once ran the
+    whole sweep to its end. Only in the main thread where SIGINT has Python's default handler;
+    elsewhere nothing changes."""
+    pressed = threading.Event()
+    if threading.current_thread() is not threading.main_thread() or (
+        signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    ):
+        yield pressed
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        pressed.set()
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, handler)
+    try:
+        yield pressed
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 def _run_all(
     client: Any,
     store: SweepStore,
@@ -199,38 +226,46 @@ def _run_all(
     size = runs_per_task or _auto_runs_per_task(len(todo), client)
     futures = submit([todo[i : i + size] for i in range(0, len(todo), size)])
     pending = as_completed(futures, loop=client.loop)
-    try:
-        for future in pending:
-            batch = batch_of.pop(future.key)
-            try:
-                outcomes = future.result()
-            except KilledWorker as err:
-                if len(batch) > 1:  # one of its runs kills workers: try each unfinished one alone
-                    alone = [[run] for run in batch if store.status(run) is None]
-                    outcomes = [(run, store.status(run), True) for run in batch if [run] not in alone]
-                    for retry in submit(alone):
-                        futures.append(retry)
-                        pending.add(retry)
-                else:  # this run killed each worker it was tried on: a crash in it, not bad luck
-                    message = f"the worker running it died each time it was tried (a crash in the scene?): {err}"
-                    wrote = store.write_run(batch[0], table.row(batch[0]), {}, "failed", error=message)
-                    outcomes = [(batch[0], "failed", wrote)]
-            except Exception as err:  # not the scene's own errors: those are recorded as failures
-                raise RuntimeError(f"runs {batch} could not be computed and written to {store.path}: {err}") from err
-            future.release()
-            for _run, status, wrote in outcomes:
-                bar.update(status, computed=wrote)
-    except KeyboardInterrupt:
-        client.cancel(futures)
-        bar.close(
-            f"sweep interrupted: {bar.finished} of {bar.total} runs finished and kept in {store.path}; "
-            "run it again to compute the rest"
-        )
-        raise
-    except BaseException:
-        client.cancel(futures)
-        bar.close()
-        raise
+    with _ctrl_c_remembered() as pressed:
+        try:
+            for future in pending:
+                if pressed.is_set():
+                    raise KeyboardInterrupt
+                batch = batch_of.pop(future.key)
+                try:
+                    outcomes = future.result()
+                except KilledWorker as err:
+                    if len(batch) > 1:  # one of its runs kills workers: try each unfinished one alone
+                        alone = [[run] for run in batch if store.status(run) is None]
+                        outcomes = [(run, store.status(run), True) for run in batch if [run] not in alone]
+                        for retry in submit(alone):
+                            futures.append(retry)
+                            pending.add(retry)
+                    else:  # this run killed each worker it was tried on: a crash in it, not bad luck
+                        message = f"the worker running it died each time it was tried (a crash in the scene?): {err}"
+                        wrote = store.write_run(batch[0], table.row(batch[0]), {}, "failed", error=message)
+                        outcomes = [(batch[0], "failed", wrote)]
+                except Exception as err:  # not the scene's own errors: those are recorded as failures
+                    raise RuntimeError(
+                        f"runs {batch} could not be computed and written to {store.path}: {err}"
+                    ) from err
+                future.release()
+                for _run, status, wrote in outcomes:
+                    bar.update(status, computed=wrote)
+        except KeyboardInterrupt:
+            client.cancel(futures)
+            bar.close(
+                f"sweep interrupted: {bar.finished} of {bar.total} runs finished and kept in {store.path}; "
+                "run it again to compute the rest"
+            )
+            raise
+        except BaseException:
+            client.cancel(futures)
+            bar.close()
+            raise
+        if pressed.is_set():  # pressed as the last task finished
+            bar.close("sweep interrupted: all runs finished and kept; nothing is left to compute")
+            raise KeyboardInterrupt
     bar.close()
 
 
