@@ -75,3 +75,21 @@ def test_a_bad_environment_value_warns_and_keeps_one_thread(value, reason):
     assert run.returncode == 0, run.stderr  # the import does not fail over it
     assert run.stdout.strip() == "1"
     assert f"COROTATE_THREADS={value!r} ignored" in run.stderr and reason in run.stderr
+
+
+@pytest.mark.parametrize("chosen", [None, "active"])
+def test_openmp_threads_sleep_at_barriers_unless_the_user_chose(chosen):
+    """OMP_WAIT_POLICY is PASSIVE when corotate's core loads, unless it was set: spinning
+    threads take the cores a busy machine's other processes need (bench/contention.py).
+    libgomp reads it as it loads, so the value must be in place before the core imports."""
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    if chosen:
+        env["OMP_WAIT_POLICY"] = chosen
+    code = (
+        "import sys, os, corotate\n"
+        "loaded = [m for m in sys.modules if m.startswith('corotate')]\n"
+        "print(os.environ['OMP_WAIT_POLICY'], loaded.index('corotate._wait_policy') < loaded.index('corotate._core'))"
+    )
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == [chosen or "PASSIVE", "True"]

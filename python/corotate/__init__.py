@@ -14,6 +14,9 @@ tet/hex mesh) stepped explicitly with a safe time step (MassSpringBody, Explicit
 
 from __future__ import annotations
 
+from . import _wait_policy  # noqa: F401  (first: OpenMP reads its wait policy as the core loads)
+
+# isort: split
 import corotate._core as _core
 
 from .body import Body

@@ -6,10 +6,12 @@ built with OpenMP (``have_openmp()``). Results do not depend on it: a run on two
 repeats a one-thread run to the last bit (docs/benchmarks.md has the speed-ups).
 
 The default is 1 because a simulator shares its cores (a renderer, a haptic loop, other
-jobs): on a busy machine extra threads wait for each other at every barrier, and two threads
-were measured 2-8x slower than one there. ``set_threads(n)`` changes it; so does the
-environment variable COROTATE_THREADS=n, read when corotate is imported (a value that is not
-an integer >= 1 is ignored with a warning that names it).
+jobs) and one thread cannot lose to itself there. Waiting threads sleep at barriers instead
+of spinning (corotate sets OMP_WAIT_POLICY=PASSIVE at import unless it is set, see
+_wait_policy.py): on a busy 2-core machine two threads then took 0.84-0.98x one thread's
+time (bench/contention.py). ``set_threads(n)`` changes the count; so does the environment
+variable COROTATE_THREADS=n, read when corotate is imported (a value that is not an integer
+>= 1 is ignored with a warning that names it).
 """
 
 from __future__ import annotations
