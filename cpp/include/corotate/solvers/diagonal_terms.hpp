@@ -1,4 +1,4 @@
-// Stiff blocks a step adds to its system's diagonal on top of the body's own.
+// The stiff blocks a step adds to its system's diagonal (contact springs), for the solvers.
 #pragma once
 
 #include <vector>
