@@ -77,7 +77,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // Each aggregate's rotation from the configuration the hierarchy was built at (identities
   // until positions arrive after the build).
   const AggregateRotations& rotations() const { return rotations_; }
-  // The hierarchy is built once; only the aggregates' rotations change from step to step.
+  // The hierarchy is built once; only the aggregates' rotations change from step to step,
   // and the contact terms' factor (restored, and refactorized, only if the failed call
   // refactorized it).
   void save_state() override;
@@ -93,9 +93,8 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // coarse_with_terms_ = coarse_ + this solve's and the last solve's terms (any: there are
   // terms now).
   void add_terms_to_coarse(bool any);
-  // coarse_with_terms_ += the terms through P (skip: nodes to leave out).
-  void add_terms(const DiagonalTerms& terms,
-                 const std::vector<char>* skip);  // coarse_with_terms_ = coarse_ + the terms (Galerkin)
+  // coarse_with_terms_ += the terms through P, Galerkin (skip: nodes to leave out).
+  void add_terms(const DiagonalTerms& terms, const std::vector<char>* skip);
 
   Nodes rest_;
   Nodes positions_;             // the latest set_positions (empty: none given)
