@@ -178,3 +178,19 @@ def test_runs_half_written_by_a_dead_worker_are_redone(tmp_path, client):
     for run in range(4):
         assert np.array_equal(ds.positions.values[run], cantilever(**table.row(run))["positions"][1])
     assert Path(out / "runs" / "r000003" / ".zattrs").exists()
+
+
+def test_a_ctrl_c_that_code_swallowed_is_still_remembered():
+    """Within a sweep's wait, Ctrl-C raises KeyboardInterrupt and sets the event the loop
+    checks at every finished task, so one that library code caught still stops the sweep;
+    Python's own handler is back afterwards."""
+    from corotate.sweep.runner import _ctrl_c_remembered
+
+    with _ctrl_c_remembered() as pressed:
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(1.0)  # the handler runs here
+        except KeyboardInterrupt:
+            pass  # swallowed, as by the code between the sweep's lines
+        assert pressed.is_set()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

@@ -44,8 +44,9 @@ class LinearSolver {
   // solver factorizes A and iterates on the rest (CG preconditioned by that factor).
   void set_coupling(const SystemCoupling* coupling) { coupling_ = coupling; }
   const SystemCoupling* coupling() const { return coupling_; }
-  // The next solves' diagonal terms (null: none), kept alive and cleared like the coupling.
-  virtual void set_diagonal_terms(const DiagonalTerms* terms) { diagonal_terms_ = terms; }
+  // The next solves' diagonal terms (null: none), kept alive and cleared like the coupling;
+  // only solvers whose preconditioner has a coarse level built once use them.
+  virtual void set_diagonal_terms(const DiagonalTerms*) {}
   // Forget everything cached about earlier systems (pattern, constraints or dt changed).
   virtual void reset() = 0;
   // The fixed DOFs of the systems to come changed (their rows and columns are projected out:
@@ -87,7 +88,6 @@ class LinearSolver {
 
  protected:
   const SystemCoupling* coupling_ = nullptr;
-  const DiagonalTerms* diagonal_terms_ = nullptr;
 };
 
 // Sets a solver's coupling and diagonal terms for a scope (the solves of one step) and
