@@ -167,17 +167,20 @@ void bind_contact(py::module_& m) {
           "carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).")
       .def(
           "set_part_contact",
-          [](Simulation& s, const CellsIn& triangles, const std::vector<int>& part_of_node, double friction) {
+          [](Simulation& s, const CellsIn& triangles, const std::vector<int>& part_of_node, double friction,
+             bool self_contact) {
             const Connectivity c = cells_from(triangles);
             if (c.rows() > 0 && c.cols() != 3) throw InvalidInput("the surface triangles must have shape (m, 3)");
             Triangles t(c.rows());
             for (Index k = 0; k < c.rows(); ++k) t[k] = {c(k, 0), c(k, 1), c(k, 2)};
-            s.set_part_contact(t, part_of_node, friction);
+            s.set_part_contact(t, part_of_node, friction, self_contact);
           },
-          py::arg("triangles"), py::arg("part_of_node"), py::arg("friction") = 0.0,
-          "Contact between the body's parts: every part's outward boundary triangles (m, 3), each node's part.")
+          py::arg("triangles"), py::arg("part_of_node"), py::arg("friction") = 0.0, py::arg("self_contact") = false,
+          "Contact between the body's parts (and within each, self_contact): every part's outward boundary "
+          "triangles (m, 3), each node's part.")
       .def("clear_part_contact", &Simulation::clear_part_contact)
       .def_property_readonly("part_contact", [](const Simulation& s) { return s.contacts().has_parts(); })
+      .def_property_readonly("self_contact", [](const Simulation& s) { return s.contacts().has_self_contact(); })
       .def_property_readonly("part_friction", [](const Simulation& s) { return s.contacts().part_friction(); })
       .def(
           "contact_system",

@@ -198,7 +198,8 @@ void Simulation::ensure_contact_properties() {
   }
 }
 
-void Simulation::set_part_contact(const Triangles& surface, const std::vector<int>& part_of_node, double friction) {
+void Simulation::set_part_contact(const Triangles& surface, const std::vector<int>& part_of_node, double friction,
+                                  bool self_contact) {
   const Claim claim(*this, "setting contact between parts");
   check_friction(friction);
   if (is_explicit(integrator_->settings().kind))
@@ -213,7 +214,8 @@ void Simulation::set_part_contact(const Triangles& surface, const std::vector<in
     if (p < 0) throw InvalidInput("part ids must be non-negative");
     num_parts = std::max(num_parts, p + 1);
   }
-  if (num_parts < 2) throw InvalidInput("contact between parts needs a body of at least two parts");
+  if (num_parts < 2 && !self_contact)
+    throw InvalidInput("contact between parts needs a body of at least two parts (or self-contact)");
   std::vector<Triangles> local(num_parts);
   std::vector<std::vector<Index>> nodes(num_parts);
   std::vector<int> vertex(static_cast<size_t>(n), -1);
@@ -246,6 +248,7 @@ void Simulation::set_part_contact(const Triangles& surface, const std::vector<in
       throw InvalidInput("the surface of part " + std::to_string(p) + " is not a closed surface: " + e.what());
     }
     parts[p].nodes = std::move(nodes[p]);
+    parts[p].triangles = parts[p].mesh->triangles();
   }
   // A part that starts inside another would be thrown out by the contact force at the first
   // step: refuse, naming how deep.
@@ -263,7 +266,16 @@ void Simulation::set_part_contact(const Triangles& surface, const std::vector<in
       }
     }
   ensure_contact_properties();
-  contacts_.set_parts(part_of_node, std::move(parts), friction);
+  NodeNeighbours neighbours;
+  if (self_contact) {
+    // The nodes that share an element with each node: the system's pattern, rows sorted.
+    const BlockSparseMatrix& pattern = model_->pattern();
+    neighbours.start = pattern.row_start();
+    neighbours.nodes.assign(pattern.columns().begin(), pattern.columns().end());
+    for (Index i = 0; i < n; ++i)
+      std::sort(neighbours.nodes.begin() + neighbours.start[i], neighbours.nodes.begin() + neighbours.start[i + 1]);
+  }
+  contacts_.set_parts(part_of_node, std::move(parts), friction, std::move(neighbours));
 }
 
 void Simulation::clear_part_contact() {

@@ -404,9 +404,9 @@ class Simulation:
         ...
     def set_friction(self, obstacle: Obstacle, friction: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
-    def set_part_contact(self, triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], part_of_node: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], friction: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+    def set_part_contact(self, triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], part_of_node: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], friction: typing.SupportsFloat | typing.SupportsIndex = 0.0, self_contact: bool = False) -> None:
         """
-        Contact between the body's parts: every part's outward boundary triangles (m, 3), each node's part.
+        Contact between the body's parts (and within each, self_contact): every part's outward boundary triangles (m, 3), each node's part.
         """
     def set_solver(self, solver: str, pcg: PCGSettings = ...) -> None:
         ...
@@ -476,6 +476,9 @@ class Simulation:
         ...
     @property
     def part_friction(self) -> float:
+        ...
+    @property
+    def self_contact(self) -> bool:
         ...
     @property
     def positions(self) -> numpy.ndarray:

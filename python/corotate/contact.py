@@ -121,23 +121,28 @@ class ContactMembers:
 
     # -- contact between the body's parts -------------------------------------------------
 
-    def set_part_contact(self, friction: float = 0.0) -> None:
+    def set_part_contact(self, friction: float = 0.0, *, self_contact: bool = False) -> None:
         """Let the body's parts (the separate pieces of its mesh: several bodies simulated as
         one, see ``corotate.Scene``) touch each other, with Coulomb friction `friction`.
 
         Each part's contact nodes (default: the surface's) cannot enter another part's closed
         surface; the force a node receives acts back on the corners of the triangle it
         presses on (momentum is kept), and the coupling between them is part of the implicit
-        solve. ValueError (nothing changed) for a mesh of one piece, a part whose boundary is
-        not a closed surface, an explicit integrator, a bad friction, or parts that start
-        inside each other."""
+        solve. With `self_contact`, each part's surface also touches itself (a soft arm
+        folding onto the body, the sides of a squeezed slot), away from each node's own
+        neighbourhood (the triangles with a corner that shares an element with it); a body of
+        one piece may then use it too. ValueError (nothing changed) for a mesh of one piece
+        without self_contact, a part whose boundary is not a closed surface, an explicit
+        integrator, a bad friction, or parts that start inside each other."""
         from .surfaces import boundary_triangles
 
         mu = real_number(friction, "friction")
+        if not isinstance(self_contact, (bool, np.bool_)):
+            raise TypeError(f"self_contact must be True or False, not {self_contact!r}")
         if not self._contact_nodes_set:
             self._sim.contact_nodes = self._surface_nodes()
             self._contact_nodes_set = True
-        self._sim.set_part_contact(boundary_triangles(self._body.mesh), self.parts.tolist(), mu)
+        self._sim.set_part_contact(boundary_triangles(self._body.mesh), self.parts.tolist(), mu, bool(self_contact))
 
     def clear_part_contact(self) -> None:
         """The parts pass through each other again."""
@@ -147,6 +152,11 @@ class ContactMembers:
     def part_contact(self) -> bool:
         """Whether the body's parts touch each other (``set_part_contact``)."""
         return bool(self._sim.part_contact)
+
+    @property
+    def self_contact(self) -> bool:
+        """Whether each part's surface also touches itself (``set_part_contact(self_contact=True)``)."""
+        return bool(self._sim.self_contact)
 
     @property
     def parts(self) -> np.ndarray:

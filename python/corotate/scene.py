@@ -114,11 +114,12 @@ class Scene:
             raise ValueError(f"body {k} has nodes 0..{stop - start - 1}; got {np.asarray(local).tolist()}")
         return i.astype(np.int64) + start
 
-    def simulation(self, friction: float = 0.0, **settings: Any) -> Simulation:
+    def simulation(self, friction: float = 0.0, self_contact: bool = False, **settings: Any) -> Simulation:
         """A Simulation of the scene's bodies (settings: as ``cr.Simulation``'s: dt, solver,
-        gravity, mass, rayleigh, integrator...) whose parts touch with Coulomb `friction`.
-        Contact needs an implicit integrator (the default)."""
+        gravity, mass, rayleigh, integrator...) whose parts touch with Coulomb `friction`
+        (and each its own surface too, with `self_contact`). Contact needs an implicit
+        integrator (the default)."""
         sim = Simulation(self._body, **settings)
-        if len(np.unique(sim.parts)) > 1:
-            sim.set_part_contact(friction)
+        if len(np.unique(sim.parts)) > 1 or self_contact:
+            sim.set_part_contact(friction, self_contact=self_contact)
         return sim

@@ -17,3 +17,20 @@ def cube(z0: float = 0.0, E: float = 1e5, cells: int = CELLS, **simulation):
 
 def bottom_nodes(mesh):
     return np.flatnonzero(np.isclose(mesh.points[:, 2], mesh.points[:, 2].min()))
+
+
+def check_contact_derivatives(sim, y, direction, h, internal=False):
+    """The contact potential's forces and Hessian at positions y are its derivatives (central
+    differences along `direction`, step h), the Hessian is symmetric positive semi-definite,
+    and, for contacts between nodes of the body alone (internal), the forces sum to zero."""
+    _, forces, hessian = sim._sim.contact_system(y)
+    e_plus, f_plus, _ = sim._sim.contact_system(y + h * direction)
+    e_minus, f_minus, _ = sim._sim.contact_system(y - h * direction)
+    np.testing.assert_allclose((e_plus - e_minus) / (2 * h), -(forces * direction).sum(), rtol=1e-5, atol=1e-9)
+    np.testing.assert_allclose(
+        ((f_plus - f_minus) / (2 * h)).reshape(-1), -hessian @ direction.reshape(-1), rtol=1e-4, atol=1e-4
+    )
+    np.testing.assert_allclose(hessian, hessian.T, atol=1e-9 * np.abs(hessian).max())
+    assert np.linalg.eigvalsh(hessian).min() > -1e-9 * np.abs(hessian).max()
+    if internal:  # equal and opposite
+        np.testing.assert_allclose(forces.sum(axis=0), 0.0, atol=1e-9 * np.abs(forces).max())

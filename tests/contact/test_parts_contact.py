@@ -4,7 +4,7 @@ two bodies holds and slides by Coulomb's law, and the potentials match finite di
 
 import numpy as np
 import pytest
-from conftest import CELLS, CUBE
+from conftest import CELLS, CUBE, check_contact_derivatives
 
 import corotate as cr
 
@@ -135,18 +135,7 @@ def test_part_potentials_match_finite_differences():
     rng = np.random.default_rng(7)
     for scale in (1e-7, 1e-3):  # sticking (within the slip width) and sliding
         y = sim.positions + scale * rng.normal(size=sim.positions.shape)
-        _energy, forces, hessian = sim._sim.contact_system(y)
-        h = 1e-8
-        direction = rng.normal(size=y.shape)
-        e_plus, f_plus, _ = sim._sim.contact_system(y + h * direction)
-        e_minus, f_minus, _ = sim._sim.contact_system(y - h * direction)
-        np.testing.assert_allclose((e_plus - e_minus) / (2 * h), -(forces * direction).sum(), rtol=1e-5, atol=1e-9)
-        np.testing.assert_allclose(
-            ((f_plus - f_minus) / (2 * h)).reshape(-1), -hessian @ direction.reshape(-1), rtol=1e-4, atol=1e-4
-        )
-        np.testing.assert_allclose(hessian, hessian.T, atol=1e-9 * np.abs(hessian).max())
-        assert np.linalg.eigvalsh(hessian).min() > -1e-9 * np.abs(hessian).max()
-        np.testing.assert_allclose(forces.sum(axis=0), 0.0, atol=1e-9 * np.abs(forces).max())  # equal and opposite
+        check_contact_derivatives(sim, y, rng.normal(size=y.shape), 1e-8, internal=True)
 
 
 def test_scene_bad_input():

@@ -135,8 +135,10 @@ class Simulation {
   // coefficient between any two parts. Each part's contact nodes touch the others' surfaces
   // (contact/contact_set.hpp). Throws InvalidInput (nothing changed) for bad ids, a triangle
   // joining two parts, a part surface that is not closed, an explicit integrator, or a
-  // contact node that starts inside another part.
-  void set_part_contact(const Triangles& surface, const std::vector<int>& part_of_node, double friction);
+  // contact node that starts inside another part. self_contact: each part's surface nodes
+  // also touch the part's own surface (away from their neighbourhood; P = 1 allowed).
+  void set_part_contact(const Triangles& surface, const std::vector<int>& part_of_node, double friction,
+                        bool self_contact = false);
   void clear_part_contact();
   bool has_contact() const { return !obstacle_links_.empty() || contacts_.has_parts(); }
   // The contacts of the last step and the force each exerted on the body at its end.

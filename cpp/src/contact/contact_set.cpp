@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "corotate/contact/closest_point_on_triangle.hpp"
 #include "corotate/sparse/single_precision_symmetric.hpp"
 
 namespace corotate {
@@ -60,9 +61,16 @@ double first_touch(const Obstacle& obstacle, const Vec3& a, const Vec3& b, doubl
 
 }  // namespace
 
-void ContactSet::set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction) {
+bool NodeNeighbours::contains(Index i, Index j) const {
+  const auto first = nodes.begin() + start[i], last = nodes.begin() + start[i + 1];
+  return std::binary_search(first, last, j);
+}
+
+void ContactSet::set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction,
+                           NodeNeighbours self_neighbours) {
   part_of_node_ = std::move(part_of_node);
   parts_ = std::move(parts);
+  self_neighbours_ = std::move(self_neighbours);
   vertex_of_node_.assign(part_of_node_.size(), -1);
   for (const PartSurface& part : parts_)
     for (size_t k = 0; k < part.nodes.size(); ++k) vertex_of_node_[part.nodes[k]] = static_cast<int>(k);
@@ -134,6 +142,12 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
     c.anchor = c.point;
     c.slip_origin = xi + dt * surface_velocity;
   }
+  keep(c, lambda, friction, surface_velocity, v, dt);
+}
+
+void ContactSet::keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Nodes& v,
+                      double dt) {
+  const Index i = c.node;
   c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
   c.multiplier = lambda;
   // An impact: a new contact that closes at more than 1 % of the node's size per step
@@ -156,6 +170,92 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
   // the conditioning of the normal contact.
   c.slip_width = std::max(settings_.friction_velocity * dt, c.friction_force / c.stiffness);
   contacts_.push_back(c);
+}
+
+template <class Carried>
+void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Vec3& gravity, double dt,
+                               const Carried& carried) {
+  const int p = part_of_node_[i];
+  const PartSurface& part = parts_[p];
+  const int id = -1 - p;
+  const double lambda = carried(i, id);
+  const double size = node_sizes_[i];
+  const double depth = 0.25 * size;  // how far behind a triangle a node may start and be pushed back
+  const Vec3 xi = x.col(i);
+  const Vec3 b = xi + dt * v.col(i) + dt * dt * gravity;
+  const Vec3 own_normal = part.mesh->vertex_normal(vertex_of_node_[i]);
+  // Every triangle the node's path can cross relative to it lies within this reach of b.
+  // (The relative path is at most dt |v_i - mean| + spread long, the margin below half that.)
+  const double reach =
+      depth + dt * dt * gravity.norm() + 1.5 * (dt * (v.col(i) - part.mean_velocity).norm() + part.spread);
+  part.mesh->triangles_near(b, reach, candidates_);
+  struct Touch {
+    int triangle = -1;
+    double t = 2;  // where along the path; 1 for a carried contact's nearest triangle
+    Vec3 weights, normal;
+    bool ahead = false;  // the path ends in front of the triangle
+  } hit, nearest;
+  double nearest2 = reach * reach;
+  for (int t : candidates_) {
+    const std::array<int, 3>& tri = part.triangles[t];
+    std::array<Index, 3> corner;
+    bool near_node = false;
+    for (int k = 0; k < 3; ++k) {
+      corner[k] = part.nodes[tri[k]];
+      near_node = near_node || self_neighbours_.contains(i, corner[k]);
+    }
+    if (near_node) continue;
+    const Vec3 e0 = part.ends.col(tri[0]), e1 = part.ends.col(tri[1]), e2 = part.ends.col(tri[2]);
+    Vec3 normal = (e1 - e0).cross(e2 - e0);
+    if (normal.norm() == 0) continue;
+    normal.normalize();
+    if (lambda > 0) {  // a contact that carried force holds on to the nearest triangle
+      const TrianglePoint q = closest_point_on_triangle(b, e0, e1, e2);
+      const double d2 = (b - q.point).squaredNorm();
+      if (d2 < nearest2) nearest2 = d2, nearest = {t, 1, q.barycentric, normal, false};
+    }
+    // Only surfaces that face each other touch (the triangles of the node's own side of a
+    // thin wall lie behind it, facing the same way).
+    if (own_normal.dot(normal) >= 0) continue;
+    // The node's start, moved by the triangle's own motion where the node lies over it.
+    const TrianglePoint q0 = closest_point_on_triangle(xi, x.col(corner[0]), x.col(corner[1]), x.col(corner[2]));
+    Vec3 a = xi;
+    for (int k = 0; k < 3; ++k) a += q0.barycentric[k] * (part.ends.col(tri[k]) - x.col(corner[k]));
+    const double da = normal.dot(a - e0), db = normal.dot(b - e0);
+    // Free flight is only a prediction: a surface that rests on something does not fall by
+    // dt^2 g, and the node's own elastic forces are left out. So a node that ends less than
+    // half its relative path (plus dt^2 g) in front of the triangle touches it too, at the
+    // end of its path: its spring pushes only if the step takes it there.
+    const double margin = 0.5 * (b - a).norm() + dt * dt * gravity.norm();
+    if (db >= margin || da < -depth) continue;  // ends clearly in front, or started deep behind
+    const double along = da <= 0 ? 0.0 : db < 0 ? da / (da - db) : 1.0;
+    Vec3 on_plane = a + along * (b - a);
+    on_plane -= normal.dot(on_plane - e0) * normal;
+    const TrianglePoint q = closest_point_on_triangle(on_plane, e0, e1, e2);
+    if ((on_plane - q.point).squaredNorm() > 1e-6 * size * size) continue;  // passes beside the triangle
+    if (along < hit.t) hit = {t, along, q.barycentric, normal, db >= 0};
+  }
+  const Touch& touch = hit.triangle >= 0 ? hit : nearest;
+  if (touch.triangle < 0) return;
+  Contact c;
+  c.node = i;
+  c.obstacle = id;
+  Vec3 surface_velocity = Vec3::Zero();
+  c.point.setZero();
+  for (int k = 0; k < 3; ++k) {
+    const int vertex = part.triangles[touch.triangle][k];
+    c.partners[k] = part.nodes[vertex];
+    c.point += touch.weights[k] * part.ends.col(vertex);
+    surface_velocity += touch.weights[k] * part.velocities.col(vertex);
+  }
+  c.weights = touch.weights;
+  c.normal = touch.normal;
+  c.anchor = Vec3::Zero();
+  c.slip_origin = relative(c, x);
+  // A path that ends in front is left to the active set (update_active takes the contact in
+  // if the node ends behind the triangle): as a spring it would pull the node onto it.
+  c.active = !(touch.ahead && lambda == 0);
+  keep(c, lambda, part_friction_, surface_velocity, v, dt);
 }
 
 void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x,
@@ -189,6 +289,8 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
         part.ends.col(k) = x.col(part.nodes[k]) + dt * part.velocities.col(k);
       }
       part.mesh->move_owned_vertices(part.ends, part.velocities);
+      part.mean_velocity = part.velocities.rowwise().mean();
+      part.spread = dt * (part.velocities.colwise() - part.mean_velocity).colwise().norm().maxCoeff();
     }
     const Pose identity;
     for (Index i : nodes_)
@@ -196,6 +298,9 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
         if (p != part_of_node_[i])
           consider(i, *parts_[p].mesh, -1 - p, identity, identity, part_friction_, x, v, gravity, dt, carried,
                    &parts_[p]);
+    if (has_self_contact())
+      for (Index i : nodes_)
+        if (vertex_of_node_[i] >= 0) consider_self(i, x, v, gravity, dt, carried);
   }
   for (const Contact& c : previous_) first_contact_[c.node] = -1;  // back to all -1 (no allocation)
   // Sorted by node, so that the next step finds a node's contacts side by side.
@@ -370,6 +475,10 @@ void ContactSet::multiply_add(const Vec& x, Vec& y) const {
       y.segment<3>(3 * nodes[a]) += e[a] * (hs - e[a] * (coupling_[k] * x.segment<3>(3 * nodes[a])));
     }
   }
+}
+
+void ContactSet::activate_all() {
+  for (Contact& c : contacts_) c.active = true;
 }
 
 bool ContactSet::has_impacts() const {

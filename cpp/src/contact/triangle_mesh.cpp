@@ -269,6 +269,16 @@ void TriangleMesh::nearest(const Vec3& p, std::array<int, 3>& corners, Vec3& wei
 
 Vec3 TriangleMesh::vertex_normal(int vertex) const { return geometry()->vertex_normals[vertex]; }
 
+void TriangleMesh::triangles_near(const Vec3& p, double radius, std::vector<int>& out) const {
+  out.clear();
+  const double radius2 = radius * radius;
+  // The nearest-triangle walk with a bound that never shrinks visits every box within it.
+  geometry()->bvh.nearest(p, radius2, [&](int t) {
+    out.push_back(t);
+    return radius2;
+  });
+}
+
 Nodes TriangleMesh::vertices() const { return geometry()->vertices; }
 
 Triangles TriangleMesh::triangles() const { return *geometry()->triangles; }

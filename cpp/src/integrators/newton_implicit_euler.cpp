@@ -97,6 +97,10 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
   const double dt = settings().time_step;
   stats.dt = dt;
 
+  // Every contact takes part: its potential's max(0, .) is the active set (contacts that
+  // detection left for the linearised step's active set to take in hold no force here
+  // until their node comes near).
+  if (in.has_contacts()) in.contacts->activate_all();
   // Start from the inertial prediction x_n + dt v_n; fixed DOFs stay there (they keep v).
   target_ = in.x + dt * in.v;
   x_ = target_;

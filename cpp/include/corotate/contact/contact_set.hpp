@@ -39,6 +39,18 @@
 // system matrix, its coupling blocks (between nodes that share no element) into the solve as
 // a SystemCoupling (solvers/linear_solver.hpp), not into the sparse pattern.
 //
+// Self-contact (an option): a part's surface nodes also touch the part's own surface, away
+// from their neighbourhood (triangles with a corner that shares an element with the node are
+// left out: the node lies on or next to them). A node's path over the step, taken relative to
+// a triangle (the node's start moved by the triangle's own motion over the step, the triangle
+// where its free flight ends), that crosses the triangle from its front to its back is a
+// contact where it crosses, as is a path that ends in front of it by less than half its
+// length plus dt^2 g (free flight is only a prediction: a resting surface does not fall by
+// dt^2 g), or a node that starts less than a quarter of its size behind a triangle it
+// projects onto; only surfaces that face each other count (the node's own normal against
+// the triangle's). The contact is then a part's contact like any other:
+// the gap n . (y_i - sum_j w_j y_j) along the triangle's normal.
+//
 // Only diagonal blocks of the system's pattern change: contact rebuilds no pattern,
 // factorization or preconditioner hierarchy.
 #pragma once
@@ -79,7 +91,19 @@ struct PartSurface {
   // contact set shares it, as the next step moves it again from the nodes).
   std::shared_ptr<TriangleMesh> mesh;
   std::vector<Index> nodes;  // mesh vertex -> body node
+  Triangles triangles;       // the mesh's outward triangles (vertex indices)
   Nodes ends, velocities;    // the step's predicted vertices and their velocities (work space)
+  Vec3 mean_velocity = Vec3::Zero();  // of the vertices over the step, and dt times the
+  double spread = 0;                  // largest speed relative to it (self-contact's reach)
+};
+
+// The nodes that share an element with each node (itself included), for self-contact's
+// exclusion of a node's own neighbourhood: row i is nodes[start[i], start[i + 1]), sorted.
+struct NodeNeighbours {
+  std::vector<int> start;
+  std::vector<Index> nodes;
+  bool empty() const { return start.empty(); }
+  bool contains(Index i, Index j) const;
 };
 
 // One active contact of the step.
@@ -95,7 +119,8 @@ struct Contact {
   double multiplier = 0;      // lambda [N]
   double friction_force = 0;  // mu N, N lagged: the multiplier carried into the step [N]
   double slip_width = 0;      // eps [m] of the smoothed friction
-  bool active = true;         // false: released by the linearised step (update_active)
+  bool active = true;         // false: released by the linearised step (update_active), or
+                              // a self-contact's path that ends just in front (taken in there)
   bool impact = false;        // new and closing fast, or on a moving surface (has_impacts)
   bool moving_surface = false;  // the surface moves by 1 % of the node's size in the step
   bool coupled() const { return partners[0] >= 0; }
@@ -117,9 +142,12 @@ class ContactSet final : public SystemCoupling {
   const ContactSettings& settings() const { return settings_; }
 
   // Contact between the body's parts: part_of_node (one id per node, 0..P-1) and each
-  // part's closed surface; friction between any two parts. Empty parts: none.
-  void set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction);
+  // part's closed surface; friction between any two parts. Empty parts: none. Non-empty
+  // self_neighbours: self-contact within each part too, away from these neighbourhoods.
+  void set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction,
+                 NodeNeighbours self_neighbours = {});
   bool has_parts() const { return !parts_.empty(); }
+  bool has_self_contact() const { return !self_neighbours_.empty(); }
   const std::vector<PartSurface>& parts() const { return parts_; }
   const std::vector<int>& part_of_node() const { return part_of_node_; }
   double part_friction() const { return part_friction_; }
@@ -150,6 +178,9 @@ class ContactSet final : public SystemCoupling {
   // that rests on or touches a surface ends within an inexact solve's noise of it, and would
   // flip from pass to pass.
   bool update_active(const Nodes& x_new);
+  // Makes every contact active (the Newton step: its potentials' max(0, .) is its own
+  // active set).
+  void activate_all();
   // Whether a contact new in this step (no force carried) closes at more than 1 % of its
   // node's size per step relative to the obstacle (an impact, a tool pushed in fast), or
   // any contact with a surface that moves by as much: the step then needs an accurate solve.
@@ -198,12 +229,20 @@ class ContactSet final : public SystemCoupling {
   void consider(Index i, const Obstacle& surface, int id, const Pose& start, const Pose& end, double friction,
                 const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried,
                 const PartSurface* part);
+  // Node i (on its part's surface) against that surface, away from its neighbourhood.
+  template <class Carried>
+  void consider_self(Index i, const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried);
+  // Sets c's stiffness, multiplier, friction and impact flags and keeps it: c touches a
+  // surface moving at surface_velocity, having carried lambda.
+  void keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Nodes& v, double dt);
 
   std::vector<Index> nodes_;
   std::vector<int> part_of_node_;
   std::vector<int> vertex_of_node_;  // a node's vertex on its part's surface (-1: none)
   std::vector<PartSurface> parts_;
   double part_friction_ = 0;
+  NodeNeighbours self_neighbours_;           // empty: no self-contact
+  std::vector<int> candidates_;              // self-contact's range query (work space)
   std::vector<char> fixed_;                 // per node
   mutable std::vector<Mat3> coupling_;      // per contact: H of the last assembly (scaled)
   mutable bool coupled_ = false;

@@ -52,6 +52,10 @@ class TriangleMesh final : public Obstacle {
   void nearest(const Vec3& p, std::array<int, 3>& corners, Vec3& weights) const;
   // The outward angle-weighted normal at a vertex (zero for a vertex no triangle uses).
   Vec3 vertex_normal(int vertex) const;
+  // The triangles whose bounding boxes come within `radius` of p (own frame), into out
+  // (cleared first; its storage is reused): the candidates of a range query, a superset of
+  // the triangles within radius.
+  void triangles_near(const Vec3& p, double radius, std::vector<int>& out) const;
 
   // Point forces (own frame) at points on or near the surface, spread onto the vertices by
   // the barycentric weights of each point's nearest surface point: the reaction a body's
