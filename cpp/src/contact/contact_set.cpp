@@ -481,6 +481,20 @@ void ContactSet::activate_all() {
   for (Contact& c : contacts_) c.active = true;
 }
 
+void ContactSet::for_each_block(const std::function<void(Index, Index, const Mat3&)>& visit) const {
+  if (!coupled_) return;
+  const auto free = [&](Index node) { return fixed_.empty() || !fixed_[static_cast<size_t>(node)]; };
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const Contact& c = contacts_[k];
+    if (!c.active || !c.coupled()) continue;
+    const std::array<Index, 4> nodes = {c.node, c.partners[0], c.partners[1], c.partners[2]};
+    const std::array<double, 4> e = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (a != b && free(nodes[a]) && free(nodes[b])) visit(nodes[a], nodes[b], e[a] * e[b] * coupling_[k]);
+  }
+}
+
 bool ContactSet::has_impacts() const {
   for (const Contact& c : contacts_)
     if (c.impact) return true;

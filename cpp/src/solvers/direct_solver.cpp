@@ -1,54 +1,43 @@
 #include "corotate/solvers/direct_solver.hpp"
 
+#include "corotate/solvers/coupled_matrix.hpp"
+
 namespace corotate {
 
 SolveStats DirectSolver::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
+  if (coupling_) return solve_coupled(A, b, x);
   A.copy_to(scalar_);
   if (!analysed_) {
     cholesky_.analyze(scalar_);
     analysed_ = true;
   }
-  if (!cholesky_.factorize(scalar_))
-    throw NotPositiveDefinite(
-        "direct solver: the system matrix is not positive definite "
-        "(an unconstrained body under a static load, or a non-physical material?)");
-  if (!coupling_) {
-    cholesky_.solve(b, x);
-    return {0, relative_residual(A, b, x, residual_), true};
-  }
-  return solve_coupled(A, b, x);
+  if (!cholesky_.factorize(scalar_)) throw not_positive_definite();
+  cholesky_.solve(b, x);
+  return {0, relative_residual(A, b, x, residual_), true};
 }
 
-// (A + C) x = b by CG preconditioned with A's factor: C (contact between parts of a body)
-// couples few nodes, so the factor leaves few directions for CG to find.
+NotPositiveDefinite DirectSolver::not_positive_definite() {
+  return NotPositiveDefinite(
+      "direct solver: the system matrix is not positive definite "
+      "(an unconstrained body under a static load, or a non-physical material?)");
+}
+
+// (A + C) x = b with A + C factorized whole (coupled_matrix.hpp): its pattern follows the
+// contacts, so it is analysed afresh (apart from A's own analysis, kept for the solves
+// without coupling).
 SolveStats DirectSolver::solve_coupled(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
-  const auto apply = [&](const Vec& v, Vec& out) {
-    A.multiply(v, out);
-    coupling_->multiply_add(v, out);
-  };
+  const BlockSparseMatrix coupled = with_coupling(A, *coupling_);
+  SparseCholesky::Matrix scalar;
+  coupled.copy_to(scalar);
+  coupled_cholesky_.analyze(scalar);
+  if (!coupled_cholesky_.factorize(scalar)) throw not_positive_definite();
+  coupled_cholesky_.solve(b, x);
+  // The residual of A + C.
+  residual_.resize(b.size());
+  coupled.multiply(x, residual_);
+  residual_ -= b;
   const double b_norm = b.norm();
-  x.setZero(b.size());
-  if (b_norm == 0) return {0, 0.0, true};
-  const double target = 1e-12 * b_norm;
-  Vec r = b, z(b.size()), p, q(b.size());
-  cholesky_.solve(r, z);
-  p = z;
-  double rz = r.dot(z), r_norm = b_norm;
-  int it = 0;
-  for (; it < 500 && r_norm > target; ++it) {
-    apply(p, q);
-    const double pq = p.dot(q);
-    if (!(pq > 0)) throw NotPositiveDefinite("direct solver: the coupled system is not positive definite");
-    const double alpha = rz / pq;
-    x += alpha * p;
-    r -= alpha * q;
-    r_norm = r.norm();
-    cholesky_.solve(r, z);
-    const double rz_new = r.dot(z);
-    p = z + (rz_new / rz) * p;
-    rz = rz_new;
-  }
-  return {it, r_norm / b_norm, r_norm <= target};
+  return {0, b_norm > 0 ? residual_.norm() / b_norm : residual_.norm(), true};
 }
 
 }  // namespace corotate

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "corotate/parallel.hpp"
+#include "corotate/solvers/coupled_matrix.hpp"
 #include "corotate/solvers/two_level_preconditioner.hpp"
 
 namespace corotate {
@@ -71,6 +72,11 @@ void ReferenceFactorPreconditioner::turn(Index num_nodes, bool rebuilding) {
   positions_pending_ = false;
 }
 
+void ReferenceFactorPreconditioner::solved(bool converged) {
+  refresh_ = refresh_ || !converged || ((coupling_ || factor_coupled_) && applies_ > kCoupledRefreshApplies);
+  applies_ = 0;
+}
+
 void ReferenceFactorPreconditioner::save_state() {
   saved_.refresh = refresh_;
   saved_.factorizations = factorizations_;
@@ -83,6 +89,7 @@ void ReferenceFactorPreconditioner::restore_state() {
   if (saved_.factor_replaced) {
     factor_ = std::move(saved_.factor);
     rotations_ = std::move(saved_.rotations);
+    factor_coupled_ = saved_.factor_coupled;
     saved_.factor_replaced = false;
   }
   rotations_.restore_state();
@@ -97,11 +104,15 @@ void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
     if (!saved_.factor_replaced) {  // the first replacement since save_state: keep the old
       saved_.factor = std::move(factor_);
       saved_.rotations = std::move(rotations_);
+      saved_.factor_coupled = factor_coupled_;
       saved_.factor_replaced = true;
     }
     factor_ = BlockCholesky();
     rotations_ = NodeRotations();
-    factor_.factorize(A);  // throws NotPositiveDefinite for an indefinite matrix
+    // (Throws NotPositiveDefinite for an indefinite matrix.)
+    factor_coupled_ = coupling_ != nullptr;
+    if (coupling_) factor_.factorize(with_coupling(A, *coupling_));
+    else factor_.factorize(A);
     ++factorizations_;
     // Built at the positions A was assembled at: rotations are measured from there.
     if (positions_.cols() != 0) rotations_.build(A, positions_);
@@ -118,6 +129,7 @@ void ReferenceFactorPreconditioner::compute_assembled() {
 
 void ReferenceFactorPreconditioner::apply(const Vec& r, Vec& z) {
   // Where CG multiplies in float32 (a loose tolerance) the factor sums in float32 too.
+  ++applies_;
   const Mat3* turn = rotations_.rotated() ? rotations_.rotations().data() : nullptr;
   single_ ? factor_.solve_single(r, z, turn) : factor_.solve(r, z, turn);
 }
@@ -129,8 +141,8 @@ void AutoPreconditioner::compute(const BlockSparseMatrix& A) {
     if (rest_.cols() != 0) chosen_->set_geometry(rest_);
     chosen_->set_single_precision_products(single_);
     if (positions_.cols() != 0) chosen_->set_positions(positions_);
-    positions_ = Nodes();
     chosen_->set_diagonal_terms(terms_);
+    chosen_->set_coupling(coupling_);
   }
   chosen_->compute(A);
 }

@@ -212,6 +212,7 @@ class ContactSet final : public SystemCoupling {
   // y += C x: the Hessian's blocks between a node and the corners it touches, and between
   // the corners (scaled as in the last add_stiffness / add_linearized).
   void multiply_add(const Vec& x, Vec& y) const override;
+  void for_each_block(const std::function<void(Index, Index, const Mat3&)>& visit) const override;
 
  private:
   // The two parts of force_of (the Hessian, when asked, is set, not added).

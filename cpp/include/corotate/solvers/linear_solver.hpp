@@ -1,6 +1,8 @@
 // Interface of the solvers for the symmetric positive definite systems of a step.
 #pragma once
 
+#include <functional>
+
 #include "corotate/fem/fixed_dofs.hpp"
 #include "corotate/solvers/diagonal_terms.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
@@ -34,15 +36,18 @@ class SystemCoupling {
  public:
   virtual ~SystemCoupling() = default;
   virtual void multiply_add(const Vec& x, Vec& y) const = 0;  // y += C x
+  // Calls visit(i, j, B) for each block B that C adds at (i, j), i != j, both orders; a pair
+  // may come more than once (the blocks add up). For a factor of A + C (coupled_matrix.hpp).
+  virtual void for_each_block(const std::function<void(Index, Index, const Mat3&)>& visit) const = 0;
 };
 
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
   // The next solves are of A + coupling (null: of A alone); the caller keeps it alive and
-  // clears it after its solves. Iterative solvers add it to their products; the direct
-  // solver factorizes A and iterates on the rest (CG preconditioned by that factor).
-  void set_coupling(const SystemCoupling* coupling) { coupling_ = coupling; }
+  // clears it after its solves. Iterative solvers add it to their products (PCG passes it on
+  // to its preconditioner too); the direct solver factorizes A + C (coupled_matrix.hpp).
+  virtual void set_coupling(const SystemCoupling* coupling) { coupling_ = coupling; }
   const SystemCoupling* coupling() const { return coupling_; }
   // The next solves' diagonal terms (null: none), kept alive and cleared like the coupling;
   // only solvers whose preconditioner has a coarse level built once use them.

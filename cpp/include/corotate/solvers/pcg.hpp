@@ -53,6 +53,10 @@ class PCG final : public LinearSolver {
   void set_geometry(const Nodes& rest) override { preconditioner_->set_geometry(rest); }
   void set_positions(const Nodes& x) override { preconditioner_->set_positions(x); }
   void set_diagonal_terms(const DiagonalTerms* terms) override { preconditioner_->set_diagonal_terms(terms); }
+  void set_coupling(const SystemCoupling* coupling) override {
+    LinearSolver::set_coupling(coupling);
+    preconditioner_->set_coupling(coupling);
+  }
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
   // At tolerances where CG multiplies in float32 anyway, the preconditioner's float32 copy,
   // once it has one (the two-level preconditioner after its first system).

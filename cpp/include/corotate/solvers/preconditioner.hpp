@@ -13,6 +13,7 @@
 namespace corotate {
 
 class SinglePrecisionSymmetric;
+class SystemCoupling;
 
 class Preconditioner {
  public:
@@ -26,6 +27,9 @@ class Preconditioner {
   // The diagonal terms (diagonal_terms.hpp) in the systems of the next compute() calls, or
   // null; the caller keeps them alive. Only a coarse level built once needs them.
   virtual void set_diagonal_terms(const DiagonalTerms*) {}
+  // The coupling of the next compute() calls' systems (linear_solver.hpp), or null; the
+  // caller keeps it alive. A factor of A + C needs it (reference_factor).
+  virtual void set_coupling(const SystemCoupling*) {}
   // Called once per solve with the current system matrix.
   virtual void compute(const BlockSparseMatrix& A) = 0;
   // z = P^-1 r.
@@ -116,7 +120,13 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   }
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
-  void solved(bool converged) override { refresh_ = refresh_ || !converged; }
+  // A solve that ends at its cap, or one with contact coupling (in its system or in the
+  // factor) that took more than kCoupledRefreshApplies applications, asks for a fresh factor.
+  void solved(bool converged) override;
+  // The next factorization is of A + C (coupled_matrix.hpp) while a coupling is set: a factor
+  // of A alone leaves CG one iteration per contact between parts to find.
+  void set_coupling(const SystemCoupling* coupling) override { coupling_ = coupling; }
+  static constexpr int kCoupledRefreshApplies = 15;
   // Only to factorize (the first system, or after a capped solve).
   bool needs_lower_blocks() const override { return factor_.empty() || refresh_; }
   // A float32 copy of each system for CG's products (when CG multiplies in float32), as the
@@ -143,11 +153,15 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
     bool refresh = false;
     int factorizations = 0;
     bool factor_replaced = false;  // factor and rotations below hold the saved ones
+    bool factor_coupled = false;
     BlockCholesky factor;
     NodeRotations rotations;
   } saved_;
   bool refresh_ = false;
   int factorizations_ = 0;
+  const SystemCoupling* coupling_ = nullptr;
+  bool factor_coupled_ = false;  // the factor is of A + C
+  int applies_ = 0;              // in the current solve
   NodeRotations rotations_;  // empty until positions arrive at the build
   Nodes positions_;
   bool positions_pending_ = false;
@@ -188,6 +202,10 @@ class AutoPreconditioner final : public Preconditioner {
     terms_ = terms;
     if (chosen_) chosen_->set_diagonal_terms(terms);
   }
+  void set_coupling(const SystemCoupling* coupling) override {  // kept for the choice
+    coupling_ = coupling;
+    if (chosen_) chosen_->set_coupling(coupling);
+  }
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override { chosen_->apply(r, z); }
   void solved(bool converged) override { chosen_->solved(converged); }
@@ -223,6 +241,7 @@ class AutoPreconditioner final : public Preconditioner {
   Nodes rest_, positions_;  // passed on to the one chosen
   bool single_ = true;
   const DiagonalTerms* terms_ = nullptr;
+  const SystemCoupling* coupling_ = nullptr;
 };
 
 const std::vector<std::string>& preconditioner_names();  // in the order of PreconditionerKind
