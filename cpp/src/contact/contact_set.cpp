@@ -456,43 +456,47 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
   }
 }
 
-void ContactSet::multiply_add(const Vec& x, Vec& y) const {
+// The coupled contacts of the last assembly: f(H, nodes, e, free) with e = (1, -w_1, -w_2,
+// -w_3) over the node and its triangle's corners, and which of the four are free (fixed rows
+// and columns are identity rows of the system: the coupling leaves them alone).
+template <class F>
+void ContactSet::for_each_coupled(F&& f) const {
   if (!coupled_) return;
-  const auto free = [&](Index node) { return fixed_.empty() || !fixed_[static_cast<size_t>(node)]; };
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const Contact& c = contacts_[k];
     if (!c.active || !c.coupled()) continue;
-    // The off-diagonal blocks e_a e_b H (a != b) of e e^T (x) H, e = (1, -w_1, -w_2, -w_3),
-    // between free nodes (fixed rows and columns are identity rows of the system).
     const std::array<Index, 4> nodes = {c.node, c.partners[0], c.partners[1], c.partners[2]};
     const std::array<double, 4> e = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
+    std::array<bool, 4> free;
+    for (int a = 0; a < 4; ++a) free[a] = fixed_.empty() || !fixed_[static_cast<size_t>(nodes[a])];
+    f(coupling_[k], nodes, e, free);
+  }
+}
+
+void ContactSet::multiply_add(const Vec& x, Vec& y) const {
+  // The off-diagonal blocks e_a e_b H (a != b) of e e^T (x) H between free nodes.
+  for_each_coupled([&](const Mat3& h, const std::array<Index, 4>& nodes, const std::array<double, 4>& e,
+                       const std::array<bool, 4>& free) {
     Vec3 sum = Vec3::Zero();
     for (int a = 0; a < 4; ++a)
-      if (free(nodes[a])) sum += e[a] * x.segment<3>(3 * nodes[a]);
-    const Vec3 hs = coupling_[k] * sum;
-    for (int a = 0; a < 4; ++a) {
-      if (!free(nodes[a])) continue;
-      y.segment<3>(3 * nodes[a]) += e[a] * (hs - e[a] * (coupling_[k] * x.segment<3>(3 * nodes[a])));
-    }
-  }
+      if (free[a]) sum += e[a] * x.segment<3>(3 * nodes[a]);
+    const Vec3 hs = h * sum;
+    for (int a = 0; a < 4; ++a)
+      if (free[a]) y.segment<3>(3 * nodes[a]) += e[a] * (hs - e[a] * (h * x.segment<3>(3 * nodes[a])));
+  });
+}
+
+void ContactSet::for_each_block(const std::function<void(Index, Index, const Mat3&)>& visit) const {
+  for_each_coupled([&](const Mat3& h, const std::array<Index, 4>& nodes, const std::array<double, 4>& e,
+                       const std::array<bool, 4>& free) {
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (a != b && free[a] && free[b]) visit(nodes[a], nodes[b], e[a] * e[b] * h);
+  });
 }
 
 void ContactSet::activate_all() {
   for (Contact& c : contacts_) c.active = true;
-}
-
-void ContactSet::for_each_block(const std::function<void(Index, Index, const Mat3&)>& visit) const {
-  if (!coupled_) return;
-  const auto free = [&](Index node) { return fixed_.empty() || !fixed_[static_cast<size_t>(node)]; };
-  for (size_t k = 0; k < contacts_.size(); ++k) {
-    const Contact& c = contacts_[k];
-    if (!c.active || !c.coupled()) continue;
-    const std::array<Index, 4> nodes = {c.node, c.partners[0], c.partners[1], c.partners[2]};
-    const std::array<double, 4> e = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        if (a != b && free(nodes[a]) && free(nodes[b])) visit(nodes[a], nodes[b], e[a] * e[b] * coupling_[k]);
-  }
 }
 
 bool ContactSet::has_impacts() const {

@@ -223,6 +223,8 @@ class ContactSet final : public SystemCoupling {
   // keeps H for the coupling.
   void add_blocks(const Contact& c, const Mat3& h, size_t k, BlockSparseMatrix* A,
                   SinglePrecisionSymmetric* single) const;
+  template <class F>
+  void for_each_coupled(F&& f) const;
   // The forces f on the node and -w_j f on the corners.
   static void add_force(const Contact& c, const Vec3& f, Nodes& out);
   // One contact of node i against a surface, if its path touches it (detect()).
