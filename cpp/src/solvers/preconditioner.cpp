@@ -1,5 +1,6 @@
 #include "corotate/solvers/preconditioner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -73,13 +74,21 @@ void ReferenceFactorPreconditioner::turn(Index num_nodes, bool rebuilding) {
 }
 
 void ReferenceFactorPreconditioner::solved(bool converged) {
-  refresh_ = refresh_ || !converged || ((coupling_ || factor_coupled_) && applies_ > kCoupledRefreshApplies);
+  refresh_ = refresh_ || !converged;
+  if (contacts_now() || factor_contacts_) {
+    if ((coupling_ && !factor_coupled_) || (contacts_now() && !factor_contacts_)) refresh_ = true;
+    fewest_ = std::min(fewest_, applies_);
+    excess_ += std::max(0, applies_ - fewest_ - 1);
+    if (excess_ >= kRefreshExcessApplies) refresh_ = true;
+  }
   applies_ = 0;
 }
 
 void ReferenceFactorPreconditioner::save_state() {
   saved_.refresh = refresh_;
   saved_.factorizations = factorizations_;
+  saved_.fewest = fewest_;
+  saved_.excess = excess_;
   saved_.factor_replaced = false;
   saved_.factor = BlockCholesky();  // (a factor replaced in the last call, no longer needed)
   rotations_.save_state();
@@ -90,11 +99,15 @@ void ReferenceFactorPreconditioner::restore_state() {
     factor_ = std::move(saved_.factor);
     rotations_ = std::move(saved_.rotations);
     factor_coupled_ = saved_.factor_coupled;
+    factor_contacts_ = saved_.factor_contacts;
     saved_.factor_replaced = false;
   }
   rotations_.restore_state();
   refresh_ = saved_.refresh;
   factorizations_ = saved_.factorizations;
+  fewest_ = saved_.fewest;
+  excess_ = saved_.excess;
+  applies_ = 0;
 }
 
 void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
@@ -105,12 +118,16 @@ void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
       saved_.factor = std::move(factor_);
       saved_.rotations = std::move(rotations_);
       saved_.factor_coupled = factor_coupled_;
+      saved_.factor_contacts = factor_contacts_;
       saved_.factor_replaced = true;
     }
     factor_ = BlockCholesky();
     rotations_ = NodeRotations();
     // (Throws NotPositiveDefinite for an indefinite matrix.)
     factor_coupled_ = coupling_ != nullptr;
+    factor_contacts_ = contacts_now();
+    fewest_ = std::numeric_limits<int>::max();
+    excess_ = 0;
     if (coupling_) factor_.factorize(with_coupling(A, *coupling_));
     else factor_.factorize(A);
     ++factorizations_;

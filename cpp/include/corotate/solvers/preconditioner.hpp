@@ -120,13 +120,21 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   }
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
-  // A solve that ends at its cap, or one with contact coupling (in its system or in the
-  // factor) that took more than kCoupledRefreshApplies applications, asks for a fresh factor.
+  // Asks for a fresh factor after a solve that ends at its cap and, with contacts, when they
+  // pay for it:
+  // - when contacts first appear (diagonal terms, the springs of obstacles, in a system whose
+  //   factor has none; or a coupling, contact between parts, that the factor leaves out);
+  // - while contacts are in the system or in the factor, when the applications beyond the
+  //   fewest since the last factorization (plus one per solve) add up to
+  //   kRefreshExcessApplies, about what a factorization costs: a landing, a body lifted off,
+  //   contacts moved elsewhere.
+  // The contacts' diagonal blocks are in A already; a factor of A takes them in.
   void solved(bool converged) override;
+  void set_diagonal_terms(const DiagonalTerms* terms) override { terms_ = terms; }
   // The next factorization is of A + C (coupled_matrix.hpp) while a coupling is set: a factor
   // of A alone leaves CG one iteration per contact between parts to find.
   void set_coupling(const SystemCoupling* coupling) override { coupling_ = coupling; }
-  static constexpr int kCoupledRefreshApplies = 15;
+  static constexpr int kRefreshExcessApplies = 40;
   // Only to factorize (the first system, or after a capped solve).
   bool needs_lower_blocks() const override { return factor_.empty() || refresh_; }
   // A float32 copy of each system for CG's products (when CG multiplies in float32), as the
@@ -153,15 +161,20 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
     bool refresh = false;
     int factorizations = 0;
     bool factor_replaced = false;  // factor and rotations below hold the saved ones
-    bool factor_coupled = false;
+    bool factor_coupled = false, factor_contacts = false;
+    int fewest = 0, excess = 0;
     BlockCholesky factor;
     NodeRotations rotations;
   } saved_;
   bool refresh_ = false;
   int factorizations_ = 0;
   const SystemCoupling* coupling_ = nullptr;
-  bool factor_coupled_ = false;  // the factor is of A + C
-  int applies_ = 0;              // in the current solve
+  const DiagonalTerms* terms_ = nullptr;
+  bool factor_coupled_ = false;   // the factor is of A + C
+  bool factor_contacts_ = false;  // the factor's system had contacts (terms or coupling)
+  int applies_ = 0;               // in the current solve
+  int fewest_ = 0, excess_ = 0;   // applications per solve since the factorization (solved())
+  bool contacts_now() const { return coupling_ || (terms_ && !terms_->empty()); }
   NodeRotations rotations_;  // empty until positions arrive at the build
   Nodes positions_;
   bool positions_pending_ = false;
