@@ -120,6 +120,26 @@ void bind_contact(py::module_& m) {
                              })
       .def_property(
           "contact_nodes", [](const Simulation& s) { return s.contacts().nodes(); }, &Simulation::set_contact_nodes)
+      .def(
+          "set_contact_points",
+          [](Simulation& s, const CellsIn& nodes,
+             const py::array_t<double, py::array::c_style | py::array::forcecast>& weights) {
+            const Connectivity n = cells_from(nodes);
+            if (weights.ndim() != 2 || weights.shape(0) != n.rows() || weights.shape(1) != n.cols())
+              throw InvalidInput("contact point weights must have the shape of their nodes (m, k)");
+            ContactPoints points;
+            points.per_point = static_cast<int>(n.cols());
+            const auto w = weights.unchecked<2>();
+            for (Index p = 0; p < n.rows(); ++p)
+              for (Index k = 0; k < n.cols(); ++k) {
+                points.nodes.push_back(n(p, k));
+                points.weights.push_back(w(p, k));
+              }
+            s.set_contact_points(std::move(points));
+          },
+          py::arg("nodes"), py::arg("weights"),
+          "Contact points instead of the nodes: point p is sum_k weights[p, k] x[nodes[p, k]] ((m, k) each).")
+      .def_property_readonly("contact_points_set", [](const Simulation& s) { return !s.contacts().points().empty(); })
       .def_property(
           "contact_settings", [](const Simulation& s) { return s.contacts().settings(); },
           &Simulation::set_contact_settings)
@@ -196,12 +216,11 @@ void bind_contact(py::module_& m) {
             Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(3 * n, 3 * n);
             for (const Contact& c : set.contacts()) {
               Mat3 h;
-              set.force_of(c, ContactSet::relative(c, y), &h);
-              const std::array<Index, 4> nodes = {c.node, c.partners[0], c.partners[1], c.partners[2]};
-              const std::array<double, 4> e = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
-              const int count = c.coupled() ? 4 : 1;
-              for (int a = 0; a < count; ++a)
-                for (int b = 0; b < count; ++b) hessian.block<3, 3>(3 * nodes[a], 3 * nodes[b]) += e[a] * e[b] * h;
+              set.force_of(c, set.relative(c, y), &h);
+              const ContactSet::Stencil st = set.stencil(c);
+              for (int a = 0; a < st.size; ++a)
+                for (int b = 0; b < st.size; ++b)
+                  hessian.block<3, 3>(3 * st.nodes[a], 3 * st.nodes[b]) += st.e[a] * st.e[b] * h;
             }
             return py::make_tuple(set.energy(y), Eigen::MatrixXd(f.transpose()), hessian);
           },
@@ -219,7 +238,7 @@ void bind_contact(py::module_& m) {
             Eigen::MatrixXd forces(cs.size(), 3), hessians(3 * cs.size(), 3);
             for (size_t k = 0; k < cs.size(); ++k) {
               Mat3 h;
-              const Vec3 yk = ContactSet::relative(cs[k], y);
+              const Vec3 yk = s.contacts().relative(cs[k], y);
               energy += s.contacts().energy_of(cs[k], yk);
               forces.row(k) = s.contacts().force_of(cs[k], yk, &h);
               hessians.block(3 * k, 0, 3, 3) = h;

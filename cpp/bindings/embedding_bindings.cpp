@@ -24,7 +24,7 @@ Eigen::Map<const Nodes> nodes_view(const PointsIn& a, const char* what) {
 // The caller's output array, written in place: it must be a writable (rows, 3) float64
 // C-contiguous array, else a copy would be written and the caller would see nothing.
 Eigen::Map<Nodes> output_view(py::array& a, Index rows, const char* what) {
-  const bool ok = a.dtype().is(py::dtype::of<double>()) && a.ndim() == 2 && a.shape(0) == rows && a.shape(1) == 3 &&
+  const bool ok = a.dtype().equal(py::dtype::of<double>()) && a.ndim() == 2 && a.shape(0) == rows && a.shape(1) == 3 &&
                   (a.flags() & py::array::c_style) && a.writeable();
   if (!ok)
     throw InvalidInput(std::string(what) + " must be a writable C-contiguous float64 array of shape (" +
@@ -64,6 +64,20 @@ void bind_embedding(py::module_& m) {
                              [](const SurfaceEmbedding& s) { return rows_of(s.local_coordinates()); })
       .def_property_readonly("outside_distances", [](const SurfaceEmbedding& s) { return Vec(s.outside_distances()); })
       .def_property_readonly("rest_normals", [](const SurfaceEmbedding& s) { return rows_of(s.rest_normals()); })
+      .def_property_readonly(
+          "vertex_stencils",
+          [](const SurfaceEmbedding& s) {
+            const Index k = s.nodes_per_vertex(), nv = s.num_vertices();
+            Eigen::Matrix<Index, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> nodes(nv, k);
+            Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> weights(nv, k);
+            for (Index v = 0; v < nv; ++v)
+              for (Index j = 0; j < k; ++j) {
+                nodes(v, j) = s.vertex_nodes()[v * k + j];
+                weights(v, j) = s.vertex_weights()[v * k + j];
+              }
+            return py::make_tuple(nodes, weights);
+          },
+          "(nodes (nv, k), weights (nv, k)): vertex v is sum_j weights[v, j] x[nodes[v, j]].")
       .def_property_readonly("report",
                              [](const SurfaceEmbedding& s) {
                                py::dict d;

@@ -146,31 +146,68 @@ void Simulation::add_obstacle(std::shared_ptr<Obstacle> obstacle, double frictio
   if (is_explicit(integrator_->settings().kind))
     throw InvalidInput(std::string("contact needs an implicit integrator ('linearized' or 'newton'), not '") +
                        integrator_->name() + "'");
-  // A body that starts inside would be thrown out by the contact force at the first step:
-  // refuse, naming how deep, so the user moves one or the other.
-  const Pose pose = obstacle->pose();
-  const double size = (x_.rowwise().maxCoeff() - x_.rowwise().minCoeff()).norm();
-  Index inside = 0, deepest = -1;
-  double depth = 0;
-  Vec3 normal;
-  for (Index i : contacts_.nodes()) {
-    const double d = obstacle->local_distance(pose.to_local(x_.col(i)), normal);
-    if (d < -1e-9 * size) {
-      ++inside;
-      if (d < depth) depth = d, deepest = i;
-    }
-  }
-  if (inside > 0) {
-    std::ostringstream msg;
-    msg << inside << " contact nodes start inside the " << obstacle->describe() << " (node " << deepest << " by "
-        << -depth << " m): move the body or the obstacle apart before adding it";
-    throw InvalidInput(msg.str());
-  }
+  check_outside(*obstacle, contacts_);
   ensure_contact_properties();
   ObstacleLink link;
   link.obstacle = std::move(obstacle);
   link.friction = friction;
   obstacle_links_.push_back(std::move(link));
+}
+
+void Simulation::check_outside(const Obstacle& obstacle, const ContactSet& set) const {
+  // A body that starts inside would be thrown out by the contact force at the first step:
+  // refuse, naming how deep, so the user moves one or the other.
+  const Pose pose = obstacle.pose();
+  const double size = (x_.rowwise().maxCoeff() - x_.rowwise().minCoeff()).norm();
+  const Nodes positions = set.unit_positions(x_);
+  Index inside = 0, deepest = -1;
+  double depth = 0;
+  Vec3 normal;
+  set.for_each_unit([&](Index i) {
+    const double d = obstacle.local_distance(pose.to_local(positions.col(i)), normal);
+    if (d < -1e-9 * size) {
+      ++inside;
+      if (d < depth) depth = d, deepest = i;
+    }
+  });
+  if (inside > 0) {
+    const bool points = !set.points().empty();
+    std::ostringstream msg;
+    msg << inside << (points ? " contact points" : " contact nodes") << " start inside the " << obstacle.describe()
+        << (points ? " (point " : " (node ") << deepest << " by " << -depth
+        << " m): move the body or the obstacle apart before adding it";
+    throw InvalidInput(msg.str());
+  }
+}
+
+void Simulation::set_contact_points(ContactPoints points) {
+  const Claim claim(*this, "setting contact points");
+  const Index n = num_nodes();
+  if (points.per_point < 1 || points.nodes.size() != points.weights.size() ||
+      points.nodes.size() % static_cast<size_t>(points.per_point) != 0 || points.nodes.empty())
+    throw InvalidInput("contact points need per_point >= 1 and per_point nodes and weights per point");
+  for (size_t k = 0; k < points.nodes.size(); ++k) {
+    const Index p = static_cast<Index>(k) / points.per_point;
+    if (points.nodes[k] < 0 || points.nodes[k] >= n)
+      throw InvalidInput("contact point " + std::to_string(p) + " refers to node " + std::to_string(points.nodes[k]) +
+                         ", out of range [0, " + std::to_string(n) + ")");
+    if (!std::isfinite(points.weights[k]))
+      throw InvalidInput("contact point " + std::to_string(p) + " has a non-finite weight");
+  }
+  for (Index p = 0; p < points.size(); ++p) {
+    double sum = 0;
+    for (int k = 0; k < points.per_point; ++k) sum += points.weights[p * points.per_point + k];
+    if (std::abs(sum - 1) > 1e-6)
+      throw InvalidInput("the weights of contact point " + std::to_string(p) + " sum to " + std::to_string(sum) +
+                         ", not 1");
+  }
+  if (contacts_.has_parts())
+    throw InvalidInput("contact points touch obstacles only: clear the contact between parts first");
+  ensure_contact_properties();
+  ContactSet candidate = contacts_;  // checked against the obstacles before anything changes
+  candidate.set_points(std::move(points));
+  for (const ObstacleLink& link : obstacle_links_) check_outside(*link.obstacle, candidate);
+  contacts_ = std::move(candidate);
 }
 
 void Simulation::ensure_contact_properties() {
@@ -216,6 +253,8 @@ void Simulation::set_part_contact(const Triangles& surface, const std::vector<in
   }
   if (num_parts < 2 && !self_contact)
     throw InvalidInput("contact between parts needs a body of at least two parts (or self-contact)");
+  if (!contacts_.points().empty())
+    throw InvalidInput("contact between parts needs the surface nodes as contact points, not a surface's points");
   std::vector<Triangles> local(num_parts);
   std::vector<std::vector<Index>> nodes(num_parts);
   std::vector<int> vertex(static_cast<size_t>(n), -1);
@@ -313,6 +352,7 @@ void Simulation::set_contact_nodes(const std::vector<Index>& nodes) {
   }
   contacts_.reset();
   contacts_.set_nodes(nodes);
+  contacts_.set_points({});
 }
 
 void Simulation::set_contact_settings(const ContactSettings& settings) {

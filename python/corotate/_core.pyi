@@ -402,6 +402,10 @@ class Simulation:
         """
     def reset_stats(self) -> None:
         ...
+    def set_contact_points(self, nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:
+        """
+        Contact points instead of the nodes: point p is sum_k weights[p, k] x[nodes[p, k]] ((m, k) each).
+        """
     def set_friction(self, obstacle: Obstacle, friction: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     def set_part_contact(self, triangles: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], part_of_node: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], friction: typing.SupportsFloat | typing.SupportsIndex = 0.0, self_contact: bool = False) -> None:
@@ -433,6 +437,9 @@ class Simulation:
         ...
     @contact_nodes.setter
     def contact_nodes(self, arg1: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def contact_points_set(self) -> bool:
         ...
     @property
     def contacts(self) -> dict:
@@ -478,10 +485,10 @@ class Simulation:
     def part_friction(self) -> float:
         ...
     @property
-    def self_contact(self) -> bool:
+    def positions(self) -> numpy.ndarray:
         ...
     @property
-    def positions(self) -> numpy.ndarray:
+    def self_contact(self) -> bool:
         ...
     @property
     def stats(self) -> dict:
@@ -760,6 +767,11 @@ class SurfaceEmbedding:
     @property
     def rest_normals(self) -> numpy.typing.NDArray[numpy.float64]:
         ...
+    @property
+    def vertex_stencils(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        (nodes (nv, k), weights (nv, k)): vertex v is sum_j weights[v, j] x[nodes[v, j]].
+        """
 class MassSpring(ForceModel):
     def __init__(self, nodes: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], springs: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], stiffness: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], damping: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], rest_lengths: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], masses: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:
         """

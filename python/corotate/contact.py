@@ -15,6 +15,8 @@ from .obstacles import Obstacle
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
+    from .embedding import EmbeddedSurface
+
 
 class ContactMembers:
     """Mixed into Simulation (needs ``self._sim`` and ``self._body``)."""
@@ -23,6 +25,7 @@ class ContactMembers:
     _body: Any
     _obstacles: list[Obstacle]
     _contact_nodes_set: bool
+    _contact_surface: EmbeddedSurface | None
     _parts_cache: np.ndarray | None
     _node_list: Any  # DrivenBody's
 
@@ -78,6 +81,37 @@ class ContactMembers:
     def contact_nodes(self, nodes: ArrayLike) -> None:
         self._sim.contact_nodes = self._node_list(nodes)
         self._contact_nodes_set = True
+        self._contact_surface = None
+
+    def set_contact_surface(self, surface: EmbeddedSurface) -> None:
+        """Let an embedded surface's vertices touch the obstacles instead of the body's nodes,
+        so that the detailed surface (a render mesh in a coarse cage), not the cage, lies on
+        the floor and meets the tool.
+
+        Each vertex is the fixed combination of its element's nodes the embedding found; it is
+        detected and held like a node, and its contact force spreads over those nodes by the
+        same weights (the Hessian over their pairs, within the element). ``contacts["nodes"]``
+        then lists vertex indices. ``contact_nodes = ...`` goes back to nodes. ValueError
+        (nothing changed) for a surface embedded in another body, vertices that start inside
+        an obstacle, or contact between parts (which uses the parts' surface nodes)."""
+        from .embedding import EmbeddedSurface
+
+        if not isinstance(surface, EmbeddedSurface):
+            raise TypeError(f"surface must be a corotate.EmbeddedSurface, not {type(surface).__name__}")
+        if surface._n_body_nodes != self._body.n_nodes:
+            raise ValueError(
+                f"the surface is embedded in a body of {surface._n_body_nodes} nodes, this one has {self._body.n_nodes}"
+            )
+        nodes, weights = surface._core.vertex_stencils
+        self._sim.set_contact_points(nodes, weights)
+        self._contact_surface = surface
+        self._contact_nodes_set = True
+
+    @property
+    def contact_surface(self) -> EmbeddedSurface | None:
+        """The embedded surface whose vertices are the contact points (``set_contact_surface``),
+        or None when the contact points are nodes."""
+        return self._contact_surface
 
     @property
     def contact_settings(self) -> dict[str, float]:

@@ -89,6 +89,7 @@ class Simulation(ContactMembers, DrivenBody):
         self._sim = _core.Simulation(body._force_model, settings, kind, pcg)
         self._obstacles = []
         self._contact_nodes_set = False
+        self._contact_surface = None
         self._rest = body.mesh.points
         self.gravity = gravity
         self._set_failure_policy(on_failure)

@@ -139,6 +139,13 @@ def test_surface_from_obj_stl_and_ply_files_and_its_own_paraview_series(tmp_path
         assert surface.n_triangles == len(faces)
         # The same geometry whatever the format did to the vertex order.
         np.testing.assert_allclose(np.sort(surface.mesh.points, axis=0), np.sort(vertices, axis=0), atol=1e-6)
+    # Points whose float64 dtype is an equal but distinct object (as meshio reads a .vtu's
+    # "<f8"): the surface still updates in place.
+    explicit = vertices.astype(np.dtype(np.float64).newbyteorder("<"))
+    assert explicit.dtype is not np.dtype(np.float64)
+    surface = EmbeddedSurface(cage, explicit, faces)
+    surface.update(cage.points)
+    np.testing.assert_allclose(surface.positions, vertices, atol=1e-12)
     body = cr.Body(cage, cr.Material(E=1e5, nu=0.3, density=1000.0))
     sim = cr.Simulation(body, dt=0.01, gravity=(0, 0, -9.81))
     sim.fix(cage.nodes_on_plane("z", cage.points[:, 2].min()))

@@ -127,7 +127,13 @@ class Simulation {
   void set_friction(const Obstacle& obstacle, double friction);
   const std::vector<ObstacleLink>& obstacles() const { return obstacle_links_; }
   // The nodes that can touch (default: all; the Python layer sets the surface's). Validated.
+  // Replaces contact points.
   void set_contact_nodes(const std::vector<Index>& nodes);
+  // Contact points instead of the nodes (contact/contact_set.hpp: an embedded surface's
+  // vertices, each a weighted combination of an element's nodes). Throws InvalidInput (nothing
+  // changed) for bad indices or weights (non-finite, not summing to 1), points that start
+  // inside an obstacle, or contact between parts.
+  void set_contact_points(ContactPoints points);
   void set_contact_settings(const ContactSettings& settings);
   // Contact between the body's parts (its mesh's separate pieces: several bodies simulated
   // as one): part_of_node gives each node's part (0..P-1, P >= 2), surface the outward
@@ -195,7 +201,10 @@ class Simulation {
   // The loud-failure checks of one step (see above); marks st, counts, throws under Raise.
   void check_health(StepStats& st);
   Index obstacle_index(const Obstacle& obstacle) const;  // -1 when not added
-  void ensure_contact_properties();  // each node's mass, stiffness and size for ContactSet
+  void ensure_contact_properties();
+  // Throws InvalidInput when contact units of `set` start inside the obstacle.
+  void check_outside(const Obstacle& obstacle,
+                     const ContactSet& set) const;  // each node's mass, stiffness and size for ContactSet
   void detect_contacts(double dt);
 
   std::unique_ptr<ForceModel> model_;

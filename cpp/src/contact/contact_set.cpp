@@ -23,12 +23,58 @@ void ContactSettings::validate() const {
 }
 
 void ContactSet::set_node_properties(Vec masses, Vec node_stiffness, Vec node_sizes) {
-  masses_ = std::move(masses);
-  node_stiffness_ = std::move(node_stiffness);
-  node_sizes_ = std::move(node_sizes);
+  auto table = std::make_shared<UnitTable>();
+  table->masses = std::move(masses);
+  table->stiffness = std::move(node_stiffness);
+  table->sizes = std::move(node_sizes);
+  nodes_table_ = std::move(table);
 }
 
 void ContactSet::set_nodes(std::vector<Index> nodes) { nodes_ = std::move(nodes); }
+
+const ContactPoints ContactSet::kNoPoints;
+
+void ContactSet::set_points(ContactPoints points) {
+  contacts_.clear();
+  previous_.clear();
+  if (points.empty()) {
+    table_.reset();
+    return;
+  }
+  auto table = std::make_shared<UnitTable>();
+  const UnitTable& node = *nodes_table_;
+  const Index count = points.size();
+  table->masses.resize(count);
+  table->stiffness.resize(count);
+  table->sizes.resize(count);
+  // The nodes in series (a point alone on its nodes; share_among_points divides them among
+  // the step's contacts).
+  for (Index p = 0; p < count; ++p) {
+    double compliance = 0, flexibility = 0, size = 0;
+    for (int k = 0; k < points.per_point; ++k) {
+      const Index n = points.nodes[p * points.per_point + k];
+      const double w = points.weights[p * points.per_point + k];
+      compliance += w * w / std::max(node.masses[n], 1e-300);
+      flexibility += w * w / std::max(node.stiffness[n], 1e-300);
+      size += std::abs(w) * node.sizes[n];
+    }
+    table->masses[p] = 1 / compliance;
+    table->stiffness[p] = 1 / flexibility;
+    table->sizes[p] = size;
+  }
+  table->points = std::move(points);
+  table_ = std::move(table);
+}
+
+Nodes ContactSet::unit_positions(const Nodes& x) const {
+  if (!table_) return x;
+  const ContactPoints& points = table_->points;
+  Nodes out = Nodes::Zero(3, points.size());
+  for (Index p = 0; p < points.size(); ++p)
+    for (int k = 0; k < points.per_point; ++k)
+      out.col(p) += points.weights[p * points.per_point + k] * x.col(points.nodes[p * points.per_point + k]);
+  return out;
+}
 
 void ContactSet::set_settings(const ContactSettings& settings) {
   settings.validate();
@@ -70,7 +116,8 @@ void ContactSet::set_parts(std::vector<int> part_of_node, std::vector<PartSurfac
                            NodeNeighbours self_neighbours) {
   part_of_node_ = std::move(part_of_node);
   parts_ = std::move(parts);
-  self_neighbours_ = std::move(self_neighbours);
+  self_neighbours_ =
+      self_neighbours.empty() ? nullptr : std::make_shared<const NodeNeighbours>(std::move(self_neighbours));
   vertex_of_node_.assign(part_of_node_.size(), -1);
   for (const PartSurface& part : parts_)
     for (size_t k = 0; k < part.nodes.size(); ++k) vertex_of_node_[part.nodes[k]] = static_cast<int>(k);
@@ -85,11 +132,10 @@ void ContactSet::set_fixed_nodes(Index num_nodes, const std::vector<Index>& fixe
 }
 
 template <class Carried>
-void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& start, const Pose& end, double friction,
-                          const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried,
-                          const PartSurface* part) {
-  const Vec3 xi = x.col(i);
-  const Vec3 free_flight = xi + dt * v.col(i) + dt * dt * gravity;
+void ContactSet::consider(Index i, const Vec3& xi, const Vec3& vi, const Obstacle& surface, int id, const Pose& start,
+                          const Pose& end, double friction, const Nodes& x, const Vec3& gravity, double dt,
+                          const Carried& carried, const PartSurface* part) {
+  const Vec3 free_flight = xi + dt * vi + dt * dt * gravity;
   Vec3 a = start.to_local(xi), normal;
   const Vec3 b = end.to_local(free_flight);
   // A deforming surface (a part's, or a mesh whose vertices move) is taken at the end of
@@ -131,7 +177,7 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
     // push it off sideways, without friction for ever). So there the node's own surface
     // normal decides, where it lies within the cone's reach.
     const bool on_face = c.weights.minCoeff() > 1e-9;
-    const int own = vertex_of_node_[i];
+    const int own = table_ ? -1 : vertex_of_node_[i];
     if (!on_face && own >= 0) {
       const Vec3 facing = -parts_[part_of_node_[i]].mesh->vertex_normal(own);
       if (facing.dot(c.normal) > 0.5) c.normal = facing;
@@ -142,13 +188,21 @@ void ContactSet::consider(Index i, const Obstacle& surface, int id, const Pose& 
     c.anchor = c.point;
     c.slip_origin = xi + dt * surface_velocity;
   }
-  keep(c, lambda, friction, surface_velocity, v, dt);
+  // A contact point that would only graze the surface (a new contact that starts within
+  // gravity's dt^2 g of it and whose free flight ends no deeper) starts released: a fine
+  // surface's many points on one coarse element cannot all rest on the floor at once, and
+  // those the last step left just above it would otherwise be held onto it for a first solve
+  // and released in a second, at every step. The linearised step's active set takes it in if
+  // the point ends inside.
+  const double graze = 1.5 * dt * dt * gravity.norm();
+  if (table_ && lambda == 0 && distance_at_a <= graze && -surface.local_distance(b, normal) <= graze) c.active = false;
+  keep(c, lambda, friction, surface_velocity, vi, dt);
 }
 
-void ContactSet::keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Nodes& v,
+void ContactSet::keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Vec3& vi,
                       double dt) {
   const Index i = c.node;
-  c.stiffness = settings_.stiffness_scale * (masses_[i] / (dt * dt) + node_stiffness_[i]);
+  c.stiffness = settings_.stiffness_scale * (unit_mass(i) / (dt * dt) + unit_stiffness(i));
   c.multiplier = lambda;
   // An impact: a new contact that closes at more than 1 % of the node's size per step
   // (not a resting node that touches again under gravity's dt^2 g); or any contact with a
@@ -157,9 +211,9 @@ void ContactSet::keep(Contact& c, double lambda, double friction, const Vec3& su
   // error in x_new by the contact stiffness, and a loose solve under a moving tool left
   // multipliers (and reported forces) tens of times the real ones, which the next step then
   // applied.
-  const double closing = c.normal.dot(v.col(i) - surface_velocity) * dt;
-  c.moving_surface = surface_velocity.norm() * dt > 1e-2 * node_sizes_[i];
-  c.impact = (lambda == 0 && closing < -1e-2 * node_sizes_[i]) || c.moving_surface;
+  const double closing = c.normal.dot(vi - surface_velocity) * dt;
+  c.moving_surface = surface_velocity.norm() * dt > 1e-2 * unit_size(i);
+  c.impact = (lambda == 0 && closing < -1e-2 * unit_size(i)) || c.moving_surface;
   // The normal force friction scales with: the one the contact carried over the last
   // step (none in a contact's first step: a prediction from the penetration the step
   // would have without contact overestimates an impact's force by the stiffness scale).
@@ -172,6 +226,29 @@ void ContactSet::keep(Contact& c, double lambda, double friction, const Vec3& su
   contacts_.push_back(c);
 }
 
+void ContactSet::share_among_points(double dt) {
+  if (!table_ || contacts_.empty()) return;
+  const ContactPoints& points = table_->points;
+  const UnitTable& node = *nodes_table_;
+  std::vector<double>& load = load_.value;  // all zero between calls
+  if (load.size() != static_cast<size_t>(node.masses.size())) load.assign(node.masses.size(), 0.0);
+  const auto for_each_node = [&](const Contact& c, auto&& f) {
+    for (int k = 0; k < points.per_point; ++k)
+      f(points.nodes[c.node * points.per_point + k], points.weights[c.node * points.per_point + k]);
+  };
+  for (const Contact& c : contacts_) for_each_node(c, [&](Index n, double w) { load[n] += w * w; });
+  for (Contact& c : contacts_) {
+    double compliance = 0, flexibility = 0;
+    for_each_node(c, [&](Index n, double w) {
+      compliance += w * w * load[n] / std::max(node.masses[n], 1e-300);
+      flexibility += w * w * load[n] / std::max(node.stiffness[n], 1e-300);
+    });
+    c.stiffness = settings_.stiffness_scale * (1 / (compliance * dt * dt) + 1 / flexibility);
+    c.slip_width = std::max(settings_.friction_velocity * dt, c.friction_force / c.stiffness);
+  }
+  for (const Contact& c : contacts_) for_each_node(c, [&](Index n, double) { load[n] = 0; });
+}
+
 template <class Carried>
 void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Vec3& gravity, double dt,
                                const Carried& carried) {
@@ -179,7 +256,7 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
   const PartSurface& part = parts_[p];
   const int id = -1 - p;
   const double lambda = carried(i, id);
-  const double size = node_sizes_[i];
+  const double size = unit_size(i);
   const double depth = 0.25 * size;  // how far behind a triangle a node may start and be pushed back
   const Vec3 xi = x.col(i);
   const Vec3 b = xi + dt * v.col(i) + dt * dt * gravity;
@@ -188,7 +265,7 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
   // (The relative path is at most dt |v_i - mean| + spread long, the margin below half that.)
   const double reach =
       depth + dt * dt * gravity.norm() + 1.5 * (dt * (v.col(i) - part.mean_velocity).norm() + part.spread);
-  part.mesh->triangles_near(b, reach, candidates_);
+  part.mesh->triangles_near(b, reach, candidates_.value);
   struct Touch {
     int triangle = -1;
     double t = 2;  // where along the path; 1 for a carried contact's nearest triangle
@@ -196,13 +273,13 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
     bool ahead = false;  // the path ends in front of the triangle
   } hit, nearest;
   double nearest2 = reach * reach;
-  for (int t : candidates_) {
+  for (int t : candidates_.value) {
     const std::array<int, 3>& tri = part.triangles[t];
     std::array<Index, 3> corner;
     bool near_node = false;
     for (int k = 0; k < 3; ++k) {
       corner[k] = part.nodes[tri[k]];
-      near_node = near_node || self_neighbours_.contains(i, corner[k]);
+      near_node = near_node || self_neighbours_->contains(i, corner[k]);
     }
     if (near_node) continue;
     const Vec3 e0 = part.ends.col(tri[0]), e1 = part.ends.col(tri[1]), e2 = part.ends.col(tri[2]);
@@ -255,7 +332,7 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
   // A path that ends in front is left to the active set (update_active takes the contact in
   // if the node ends behind the triangle): as a spring it would pull the node onto it.
   c.active = !(touch.ahead && lambda == 0);
-  keep(c, lambda, part_friction_, surface_velocity, v, dt);
+  keep(c, lambda, part_friction_, surface_velocity, v.col(i), dt);
 }
 
 void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x,
@@ -263,11 +340,12 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
   // The multipliers of the last step's contacts, by node, to carry over.
   previous_.swap(contacts_);
   contacts_.clear();
-  if (first_contact_.size() != static_cast<size_t>(x.cols())) first_contact_.assign(x.cols(), -1);
-  for (size_t c = previous_.size(); c-- > 0;) first_contact_[previous_[c].node] = static_cast<int>(c);
+  const Index units = num_units(x.cols());
+  if (first_contact_.value.size() != static_cast<size_t>(units)) first_contact_.value.assign(units, -1);
+  for (size_t c = previous_.size(); c-- > 0;) first_contact_.value[previous_[c].node] = static_cast<int>(c);
   const auto carried = [&](Index node, int obstacle) {
-    for (int c = first_contact_[node]; c >= 0 && c < static_cast<int>(previous_.size()) && previous_[c].node == node;
-         ++c)
+    for (int c = first_contact_.value[node];
+         c >= 0 && c < static_cast<int>(previous_.size()) && previous_[c].node == node; ++c)
       if (previous_[c].obstacle == obstacle) return previous_[c].multiplier;
     return 0.0;
   };
@@ -275,8 +353,23 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
   for (int j = 0; j < static_cast<int>(links.size()); ++j) {
     const Pose& end = poses[j];
     const Pose& start = links[j].seen ? links[j].last_pose : end;
-    for (Index i : nodes_)
-      consider(i, *links[j].obstacle, j, start, end, links[j].friction, x, v, gravity, dt, carried, nullptr);
+    if (!table_) {
+      for (Index i : nodes_)
+        consider(i, x.col(i), v.col(i), *links[j].obstacle, j, start, end, links[j].friction, x, gravity, dt, carried,
+                 nullptr);
+      continue;
+    }
+    const ContactPoints& points = table_->points;
+    for (Index p = 0; p < points.size(); ++p) {
+      Vec3 xp = Vec3::Zero(), vp = Vec3::Zero();
+      for (int k = 0; k < points.per_point; ++k) {
+        const Index n = points.nodes[p * points.per_point + k];
+        const double w = points.weights[p * points.per_point + k];
+        xp += w * x.col(n);
+        vp += w * v.col(n);
+      }
+      consider(p, xp, vp, *links[j].obstacle, j, start, end, links[j].friction, x, gravity, dt, carried, nullptr);
+    }
   }
   if (!parts_.empty()) {
     // Each part's surface where its free flight takes it, moving there with that velocity.
@@ -296,13 +389,14 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
     for (Index i : nodes_)
       for (int p = 0; p < static_cast<int>(parts_.size()); ++p)
         if (p != part_of_node_[i])
-          consider(i, *parts_[p].mesh, -1 - p, identity, identity, part_friction_, x, v, gravity, dt, carried,
-                   &parts_[p]);
+          consider(i, x.col(i), v.col(i), *parts_[p].mesh, -1 - p, identity, identity, part_friction_, x, gravity, dt,
+                   carried, &parts_[p]);
     if (has_self_contact())
       for (Index i : nodes_)
         if (vertex_of_node_[i] >= 0) consider_self(i, x, v, gravity, dt, carried);
   }
-  for (const Contact& c : previous_) first_contact_[c.node] = -1;  // back to all -1 (no allocation)
+  for (const Contact& c : previous_) first_contact_.value[c.node] = -1;  // back to all -1 (no allocation)
+  share_among_points(dt);
   // Sorted by node, so that the next step finds a node's contacts side by side.
   std::sort(contacts_.begin(), contacts_.end(), [](const Contact& p, const Contact& q) {
     return p.node != q.node ? p.node < q.node : p.obstacle < q.obstacle;
@@ -316,17 +410,43 @@ double friction_potential(double s, double eps) {
 }
 }  // namespace
 
-Vec3 ContactSet::relative(const Contact& c, const Nodes& y) {
-  Vec3 r = y.col(c.node);
+ContactSet::Stencil ContactSet::stencil(const Contact& c) const {
+  Stencil s;
+  if (!table_) {
+    s.nodes[0] = c.node;
+    s.e[0] = 1;
+    s.size = 1;
+  } else {
+    const ContactPoints& points = table_->points;
+    for (int k = 0; k < points.per_point; ++k) {
+      s.nodes[k] = points.nodes[c.node * points.per_point + k];
+      s.e[k] = points.weights[c.node * points.per_point + k];
+    }
+    s.size = points.per_point;
+  }
   if (c.coupled())
-    for (int k = 0; k < 3; ++k) r -= c.weights[k] * y.col(c.partners[k]);
+    for (int k = 0; k < 3; ++k) {
+      s.nodes[s.size] = c.partners[k];
+      s.e[s.size++] = -c.weights[k];
+    }
+  return s;
+}
+
+Vec3 ContactSet::relative(const Contact& c, const Nodes& y) const {
+  if (!table_ && !c.coupled()) return y.col(c.node);  // (the common case, without the stencil)
+  const Stencil s = stencil(c);
+  Vec3 r = Vec3::Zero();
+  for (int a = 0; a < s.size; ++a) r += s.e[a] * y.col(s.nodes[a]);
   return r;
 }
 
-void ContactSet::add_force(const Contact& c, const Vec3& f, Nodes& out) {
-  out.col(c.node) += f;
-  if (c.coupled())
-    for (int k = 0; k < 3; ++k) out.col(c.partners[k]) -= c.weights[k] * f;
+void ContactSet::add_force(const Contact& c, const Vec3& f, Nodes& out) const {
+  if (!table_ && !c.coupled()) {
+    out.col(c.node) += f;
+    return;
+  }
+  const Stencil s = stencil(c);
+  for (int a = 0; a < s.size; ++a) out.col(s.nodes[a]) += s.e[a] * f;
 }
 
 double ContactSet::energy_of(const Contact& c, const Vec3& r) const {
@@ -399,9 +519,12 @@ void ContactSet::add_blocks(const Contact& c, const Mat3& h, size_t k, BlockSpar
     diagonal_terms_.nodes.push_back(node);
     diagonal_terms_.blocks.push_back(scale * h);
   };
-  add(c.node, 1);
-  if (!c.coupled()) return;
-  for (int j = 0; j < 3; ++j) add(c.partners[j], c.weights[j] * c.weights[j]);
+  if (!table_ && !c.coupled()) {
+    add(c.node, 1);
+    return;
+  }
+  const Stencil s = stencil(c);
+  for (int a = 0; a < s.size; ++a) add(s.nodes[a], s.e[a] * s.e[a]);
   coupling_[k] = h;
   coupled_ = true;
 }
@@ -456,42 +579,40 @@ void ContactSet::add_linearized(const Nodes& y, Nodes& f, double scale, BlockSpa
   }
 }
 
-// The coupled contacts of the last assembly: f(H, nodes, e, free) with e = (1, -w_1, -w_2,
-// -w_3) over the node and its triangle's corners, and which of the four are free (fixed rows
-// and columns are identity rows of the system: the coupling leaves them alone).
+// The coupled contacts of the last assembly (a node against a triangle of another part, or
+// a contact point of several nodes): f(H, s, free) with s the stencil (r = sum_a e_a
+// y_{s.nodes[a]}) and which of its nodes are free (fixed rows and columns are identity rows
+// of the system: the coupling leaves them alone).
 template <class F>
 void ContactSet::for_each_coupled(F&& f) const {
   if (!coupled_) return;
+  std::array<bool, kMaxStencil> free;
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const Contact& c = contacts_[k];
-    if (!c.active || !c.coupled()) continue;
-    const std::array<Index, 4> nodes = {c.node, c.partners[0], c.partners[1], c.partners[2]};
-    const std::array<double, 4> e = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
-    std::array<bool, 4> free;
-    for (int a = 0; a < 4; ++a) free[a] = fixed_.empty() || !fixed_[static_cast<size_t>(nodes[a])];
-    f(coupling_[k], nodes, e, free);
+    if (!c.active || (!table_ && !c.coupled())) continue;
+    const Stencil s = stencil(c);
+    for (int a = 0; a < s.size; ++a) free[a] = fixed_.empty() || !fixed_[static_cast<size_t>(s.nodes[a])];
+    f(coupling_[k], s, free);
   }
 }
 
 void ContactSet::multiply_add(const Vec& x, Vec& y) const {
   // The off-diagonal blocks e_a e_b H (a != b) of e e^T (x) H between free nodes.
-  for_each_coupled([&](const Mat3& h, const std::array<Index, 4>& nodes, const std::array<double, 4>& e,
-                       const std::array<bool, 4>& free) {
+  for_each_coupled([&](const Mat3& h, const Stencil& s, const std::array<bool, kMaxStencil>& free) {
     Vec3 sum = Vec3::Zero();
-    for (int a = 0; a < 4; ++a)
-      if (free[a]) sum += e[a] * x.segment<3>(3 * nodes[a]);
+    for (int a = 0; a < s.size; ++a)
+      if (free[a]) sum += s.e[a] * x.segment<3>(3 * s.nodes[a]);
     const Vec3 hs = h * sum;
-    for (int a = 0; a < 4; ++a)
-      if (free[a]) y.segment<3>(3 * nodes[a]) += e[a] * (hs - e[a] * (h * x.segment<3>(3 * nodes[a])));
+    for (int a = 0; a < s.size; ++a)
+      if (free[a]) y.segment<3>(3 * s.nodes[a]) += s.e[a] * (hs - s.e[a] * (h * x.segment<3>(3 * s.nodes[a])));
   });
 }
 
 void ContactSet::for_each_block(const std::function<void(Index, Index, const Mat3&)>& visit) const {
-  for_each_coupled([&](const Mat3& h, const std::array<Index, 4>& nodes, const std::array<double, 4>& e,
-                       const std::array<bool, 4>& free) {
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        if (a != b && free[a] && free[b]) visit(nodes[a], nodes[b], e[a] * e[b] * h);
+  for_each_coupled([&](const Mat3& h, const Stencil& s, const std::array<bool, kMaxStencil>& free) {
+    for (int a = 0; a < s.size; ++a)
+      for (int b = 0; b < s.size; ++b)
+        if (a != b && free[a] && free[b]) visit(s.nodes[a], s.nodes[b], s.e[a] * s.e[b] * h);
   });
 }
 
@@ -517,7 +638,7 @@ bool ContactSet::update_active(const Nodes& x_new) {
     // the tissue a tool moved away from with a pull of k times the band, a few newtons per
     // node, for as long as they touched. (1e-6 at impacts too cost the landing armadillo five
     // times the CG iterations, in passes.)
-    const double noise = (c.moving_surface ? 1e-6 : 1e-3) * node_sizes_[c.node];
+    const double noise = (c.moving_surface ? 1e-6 : 1e-3) * unit_size(c.node);
     const bool active = c.active ? gap <= std::max(c.multiplier / c.stiffness, noise) : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;

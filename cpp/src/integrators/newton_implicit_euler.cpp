@@ -183,11 +183,12 @@ StepStats NewtonImplicitEuler::step(const StepInput& in, Nodes& x_new, Nodes& v_
     in.solver.set_positions(x_);
     SolveStats solve;
     bool solved = false;
-    // Contacts between parts of the body couple nodes outside the pattern: the solver adds
-    // them (the LU of a non-symmetric tangent does not: its Newton steps then use the
-    // contacts' diagonal blocks alone, and the line search keeps them descending).
-    const CouplingScope coupling(in.solver, in.has_contacts() && in.contacts->has_coupling() ? in.contacts : nullptr,
-                                 in.has_contacts() ? &in.contacts->diagonal_terms() : nullptr);
+    // Contacts between parts of the body (or at points of several nodes) couple nodes outside
+    // the pattern: the solver adds them, and so does the LU of a non-symmetric tangent.
+    const SystemCoupling* coupled = in.has_contacts() && in.contacts->has_coupling() ? in.contacts : nullptr;
+    const DiagonalTerms* terms = in.has_contacts() ? &in.contacts->diagonal_terms() : nullptr;
+    const CouplingScope coupling(in.solver, coupled, terms);
+    const CouplingScope lu_coupling(lu_, coupled, terms);
     try {
       // A non-symmetric tangent (ForceModel::symmetric_tangent) by sparse LU, else the
       // step's solver.

@@ -32,12 +32,7 @@ SolveStats DirectSolver::solve_coupled(const BlockSparseMatrix& A, const Vec& b,
   coupled_cholesky_.analyze(scalar);
   if (!coupled_cholesky_.factorize(scalar)) throw not_positive_definite();
   coupled_cholesky_.solve(b, x);
-  // The residual of A + C.
-  residual_.resize(b.size());
-  coupled.multiply(x, residual_);
-  residual_ -= b;
-  const double b_norm = b.norm();
-  return {0, b_norm > 0 ? residual_.norm() / b_norm : residual_.norm(), true};
+  return {0, relative_residual(coupled, b, x, residual_), true};
 }
 
 }  // namespace corotate

@@ -51,6 +51,21 @@
 // the triangle's). The contact is then a part's contact like any other:
 // the gap n . (y_i - sum_j w_j y_j) along the triangle's normal.
 //
+// Contact points other than the nodes (an option, against obstacles): the vertices of an
+// embedded render surface, so that the detailed surface, not the coarse body, touches the
+// world. Point p is a fixed combination sum_k w_k x_{n_k} of one element's nodes (its
+// shape-function weights); it is detected and held like a node, and every potential above is
+// a function of its position, so its force f spreads as w_k f over the nodes and its Hessian
+// H as w_a w_b H over their pairs (in the element's blocks: the coupling's, as between
+// parts). In the contact stiffness the point's mass and stiffness are the nodes' in series,
+// each node shared among the step's contact points that use it: 1 / sum_k (w_k^2 L_k / m_k)
+// and 1 / sum_k (w_k^2 L_k / k_k), with node k's load L_k = sum_p w_pk^2 over the step's
+// contacts. A point at a node that no other contact uses gets the node's own; a fine
+// surface's many points on one coarse element add up to about what its nodes would have alone
+// (without the shares, 12,000 render vertices on Table 1's 653-tet cage made the landing's
+// system so stiff that its capped solve inverted elements; shared among all the surface's
+// points, not the step's contacts, a foot landing on a few points sank 1 mm).
+//
 // Only diagonal blocks of the system's pattern change: contact rebuilds no pattern,
 // factorization or preconditioner hierarchy.
 #pragma once
@@ -106,9 +121,18 @@ struct NodeNeighbours {
   bool contains(Index i, Index j) const;
 };
 
+// Contact points other than the nodes (see above): per_point nodes and weights per point.
+struct ContactPoints {
+  int per_point = 0;
+  std::vector<Index> nodes;
+  std::vector<double> weights;
+  Index size() const { return per_point > 0 ? static_cast<Index>(nodes.size()) / per_point : 0; }
+  bool empty() const { return per_point == 0; }
+};
+
 // One active contact of the step.
 struct Contact {
-  Index node = 0;
+  Index node = 0;  // its contact node, or with contact points (set_points) the point
   int obstacle = 0;           // index into the links; -1 - p for part p of the body
   std::array<Index, 3> partners = {-1, -1, -1};  // a part's triangle: its corner nodes
   Vec3 weights = Vec3::Zero();                   // and the contact point's weights on them
@@ -126,18 +150,43 @@ struct Contact {
   bool coupled() const { return partners[0] >= 0; }
 };
 
+// Work space that a copy of its owner does not copy (the copy makes its own when it needs
+// it): a step's backup of the contact set copies the set at every step.
+template <class T>
+struct Scratch {
+  T value;
+  Scratch() = default;
+  Scratch(const Scratch&) {}
+  Scratch& operator=(const Scratch&) { return *this; }
+};
+
 class ContactSet final : public SystemCoupling {
  public:
   // Per node of the body: its lumped mass, rest stiffness (k_i above) and size (the mean
   // rest distance to the nodes it shares elements with).
   void set_node_properties(Vec masses, Vec node_stiffness, Vec node_sizes);
-  bool has_node_properties() const { return masses_.size() > 0; }
+  bool has_node_properties() const { return nodes_table_ != nullptr; }
 
   bool empty() const { return contacts_.empty(); }
   const std::vector<Contact>& contacts() const { return contacts_; }
   const std::vector<Index>& nodes() const { return nodes_; }
   // The nodes that can touch (the body's surface; validated by the caller).
   void set_nodes(std::vector<Index> nodes);
+  // Contact points instead of the nodes (validated by the caller, after the node properties;
+  // empty: back to the nodes). Not with contact between parts.
+  void set_points(ContactPoints points);
+  const ContactPoints& points() const { return table_ ? table_->points : kNoPoints; }
+  // How many contact units (nodes of the body, or points) and their positions at x (3 x n).
+  Index num_units(Index num_nodes) const { return table_ ? table_->points.size() : num_nodes; }
+  Nodes unit_positions(const Nodes& x) const;
+  // The units that can touch: the contact nodes, or every point.
+  template <class F>
+  void for_each_unit(F&& f) const {
+    if (!table_)
+      for (Index i : nodes_) f(i);
+    else
+      for (Index p = 0; p < table_->points.size(); ++p) f(p);
+  }
   void set_settings(const ContactSettings& settings);
   const ContactSettings& settings() const { return settings_; }
 
@@ -147,7 +196,7 @@ class ContactSet final : public SystemCoupling {
   void set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction,
                  NodeNeighbours self_neighbours = {});
   bool has_parts() const { return !parts_.empty(); }
-  bool has_self_contact() const { return !self_neighbours_.empty(); }
+  bool has_self_contact() const { return self_neighbours_ != nullptr; }
   const std::vector<PartSurface>& parts() const { return parts_; }
   const std::vector<int>& part_of_node() const { return part_of_node_; }
   double part_friction() const { return part_friction_; }
@@ -200,11 +249,21 @@ class ContactSet final : public SystemCoupling {
   // position r (the node's position for an obstacle; see relative()).
   double energy_of(const Contact& c, const Vec3& r) const;
   Vec3 force_of(const Contact& c, const Vec3& r, Mat3* hessian) const;
-  // r = y_i - sum_j w_j y_j (y_i for an obstacle's contact).
-  static Vec3 relative(const Contact& c, const Nodes& y);
+  // r = y_i - sum_j w_j y_j (y_i for an obstacle's contact; y_i the point's position for a
+  // contact point).
+  Vec3 relative(const Contact& c, const Nodes& y) const;
+  // The nodes r combines and their coefficients e: r = sum_a e_a y_{nodes[a]}.
+  static constexpr int kMaxStencil = 24;  // a Hex20 point (20 nodes) and a triangle (3)
+  struct Stencil {
+    std::array<Index, kMaxStencil> nodes;
+    std::array<double, kMaxStencil> e;
+    int size = 0;
+  };
+  Stencil stencil(const Contact& c) const;
 
-  // Whether this step has contacts between parts, whose coupling blocks the solve needs
-  // (set by add_stiffness and add_linearized: the blocks of the last one called).
+  // Whether this step's contacts have blocks between nodes (contacts between parts, or
+  // contact points of several nodes), which the solve needs as the coupling (set by
+  // add_stiffness and add_linearized: the blocks of the last one called).
   bool has_coupling() const { return coupled_; }
   // The diagonal blocks the last add_stiffness / add_linearized added (scaled), for a
   // solver's coarse level (solvers/diagonal_terms.hpp).
@@ -223,39 +282,57 @@ class ContactSet final : public SystemCoupling {
   // keeps H for the coupling.
   void add_blocks(const Contact& c, const Mat3& h, size_t k, BlockSparseMatrix* A,
                   SinglePrecisionSymmetric* single) const;
+  // f(H, stencil, free) for each contact with blocks between nodes (see the source).
   template <class F>
   void for_each_coupled(F&& f) const;
-  // The forces f on the node and -w_j f on the corners.
-  static void add_force(const Contact& c, const Vec3& f, Nodes& out);
+  // The forces e_a f on the stencil's nodes (f on the node, -w_j f on the corners).
+  void add_force(const Contact& c, const Vec3& f, Nodes& out) const;
+  // The unit's mass, rest stiffness and size (the node's, or the point's: see above).
+  double unit_mass(Index i) const { return (table_ ? *table_ : *nodes_table_).masses[i]; }
+  double unit_stiffness(Index i) const { return (table_ ? *table_ : *nodes_table_).stiffness[i]; }
+  double unit_size(Index i) const { return (table_ ? *table_ : *nodes_table_).sizes[i]; }
   // One contact of node i against a surface, if its path touches it (detect()).
   template <class Carried>
-  void consider(Index i, const Obstacle& surface, int id, const Pose& start, const Pose& end, double friction,
-                const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried,
-                const PartSurface* part);
+  void consider(Index i, const Vec3& xi, const Vec3& vi, const Obstacle& surface, int id, const Pose& start,
+                const Pose& end, double friction, const Nodes& x, const Vec3& gravity, double dt,
+                const Carried& carried, const PartSurface* part);
   // Node i (on its part's surface) against that surface, away from its neighbourhood.
   template <class Carried>
   void consider_self(Index i, const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried);
+  // Contact points: each contact's stiffness from its nodes shared among the step's contacts
+  // (see above).
+  void share_among_points(double dt);
   // Sets c's stiffness, multiplier, friction and impact flags and keeps it: c touches a
   // surface moving at surface_velocity, having carried lambda.
-  void keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Nodes& v, double dt);
+  void keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Vec3& vi, double dt);
 
   std::vector<Index> nodes_;
   std::vector<int> part_of_node_;
   std::vector<int> vertex_of_node_;  // a node's vertex on its part's surface (-1: none)
   std::vector<PartSurface> parts_;
   double part_friction_ = 0;
-  NodeNeighbours self_neighbours_;           // empty: no self-contact
-  std::vector<int> candidates_;              // self-contact's range query (work space)
+  // Set once and shared by copies (a step's backup of the set copies it at every step).
+  std::shared_ptr<const NodeNeighbours> self_neighbours_;  // null: no self-contact
+  Scratch<std::vector<int>> candidates_;                    // self-contact's range query
   std::vector<char> fixed_;                 // per node
   mutable std::vector<Mat3> coupling_;      // per contact: H of the last assembly (scaled)
   mutable bool coupled_ = false;
   mutable DiagonalTerms diagonal_terms_;    // the diagonal blocks of the last assembly
   mutable std::vector<double> secant_;      // per contact: friction's secant damping (add_linearized)
   mutable bool linearized_ = false;         // the last assembly was add_linearized's
-  Vec masses_, node_stiffness_, node_sizes_;
+  // The nodes' masses, rest stiffnesses and sizes; the contact points (null: the nodes are)
+  // and theirs.
+  struct UnitTable {
+    ContactPoints points;
+    Vec masses, stiffness, sizes;
+  };
+  std::shared_ptr<const UnitTable> nodes_table_, table_;
+  static const ContactPoints kNoPoints;
   ContactSettings settings_;
   std::vector<Contact> contacts_, previous_;  // this step's; the last step's (detect())
-  std::vector<int> first_contact_;             // per node: its first contact in previous_, or -1
+  Scratch<std::vector<int>> first_contact_;
+  Scratch<std::vector<double>>
+      load_;  // per node (share_among_points)  // per unit: its first contact in previous_, or -1
   Nodes forces_;
 };
 

@@ -61,6 +61,10 @@ class SurfaceEmbedding {
   const Vec& outside_distances() const { return outside_distance_; }  // / element size; 0 inside
   const EmbeddingReport& report() const { return report_; }
   const Nodes& rest_normals() const { return rest_normals_; }
+  // Vertex v is sum_k w_k x_{n_k} over k < nodes_per_vertex(): its element's nodes n and
+  // shape-function weights w, from vertex_nodes() and vertex_weights() at v * nodes_per_vertex().
+  const std::vector<int>& vertex_nodes() const { return nodes_; }
+  const std::vector<double>& vertex_weights() const { return weights_; }
 
   // Surface positions (3 x nv, written into out) for body positions x (3 x n).
   void embed(Eigen::Ref<const Nodes> x, Eigen::Ref<Nodes> out) const;

@@ -2,7 +2,9 @@
 // (COLAMD ordering, partial pivoting), for the non-symmetric exact tangent of co-rotated hexes
 // (ForceModel::symmetric_tangent() false). The symbolic analysis is done once per pattern and
 // reused; each solve factorizes numerically. On the hexahedral meshes of the tests it is as
-// fast as the SimplicialLDLT of DirectSolver (supernodes make up for the pivoting).
+// fast as the SimplicialLDLT of DirectSolver (supernodes make up for the pivoting). With a
+// coupling (contacts between nodes outside the pattern) it factorizes A + C
+// (coupled_matrix.hpp), analysed afresh each time.
 #pragma once
 
 #include <Eigen/SparseLU>
@@ -22,6 +24,7 @@ class LuSolver final : public LinearSolver {
   ScalarMatrix rows_;  // the CSR arrays of A, that is A^T in column-major storage
   ScalarMatrix scalar_;
   Eigen::SparseLU<ScalarMatrix, Eigen::COLAMDOrdering<int>> lu_;
+  Eigen::SparseLU<ScalarMatrix, Eigen::COLAMDOrdering<int>> coupled_lu_;
   Vec residual_;
   bool analysed_ = false;
 };
