@@ -131,7 +131,8 @@ class ContactMembers:
 
     @property
     def contacts(self) -> dict[str, np.ndarray]:
-        """The last step's contacts, one row each: "nodes", "obstacles" (indices into
+        """The last step's contacts, one row each: "nodes" (the contact node, or the surface's
+        vertex with ``set_contact_surface``), "obstacles" (indices into
         ``obstacles``), "normals" and "points" (the obstacle's tangent plane), "forces" (m, 3)
         the force each exerted on its node in the step (normal and friction; with the
         linearised step what it applied: a contact kept within its active set's band may pull
