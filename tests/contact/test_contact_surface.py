@@ -119,3 +119,19 @@ def test_contact_surface_bad_input():
     assert sim.contact_surface is surface
     sim.contact_nodes = [0, 1]  # back to nodes
     assert sim.contact_surface is None and not sim._sim.contact_points_set
+
+
+def test_skin_does_not_tunnel_through_a_thin_slab_at_10_m_per_s():
+    """Every skin vertex crosses 10 cm in a step, 50 times the slab's thickness: none passes
+    (the detection skips only the elements no obstacle can reach within the step)."""
+    _, surface, sim = caged(bottom=0.02, solver=cr.PCG(max_iterations=200, tolerance=1e-8))
+    sim.set_contact_surface(surface)
+    sim.velocities[:] = (0.0, 0.0, -10.0)
+    slab = cr.Box((0, 0, -0.001), (1.0, 1.0, 0.002))
+    sim.add_obstacle(slab)
+    for _ in range(50):
+        sim.step()
+        surface.update(sim)
+        assert surface.positions[:, 2].min() > -0.001  # never through its middle
+    assert sim.velocities[:, 2].max() > -1e-2  # stopped on top
+    assert surface.positions[:, 2].min() > -0.01 * ELEMENT

@@ -62,8 +62,54 @@ void ContactSet::set_points(ContactPoints points) {
     table->stiffness[p] = 1 / flexibility;
     table->sizes[p] = size;
   }
+  // Groups: points with the same nodes, side by side.
+  std::vector<Index> order(static_cast<size_t>(count));
+  for (Index p = 0; p < count; ++p) order[p] = p;
+  const auto nodes_of = [&](Index p) { return points.nodes.begin() + p * points.per_point; };
+  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) {
+    return std::lexicographical_compare(nodes_of(a), nodes_of(a) + points.per_point, nodes_of(b),
+                                        nodes_of(b) + points.per_point);
+  });
+  for (Index k = 0; k < count; ++k) {
+    const Index p = order[k];
+    if (k == 0 || !std::equal(nodes_of(p), nodes_of(p) + points.per_point, nodes_of(order[k - 1]))) {
+      table->group_start.push_back(static_cast<int>(k));
+      table->group_spread.push_back(0.0);
+    }
+    double spread = 0;
+    for (int j = 0; j < points.per_point; ++j) spread += std::abs(points.weights[p * points.per_point + j]);
+    table->group_spread.back() = std::max(table->group_spread.back(), spread);
+  }
+  table->group_start.push_back(static_cast<int>(count));
+  table->group_order = std::move(order);
   table->points = std::move(points);
   table_ = std::move(table);
+}
+
+bool ContactSet::group_out_of_reach(const UnitTable& table, int g, const Obstacle& obstacle, const Pose& start,
+                                    const Pose& end, const Nodes& x, const Nodes& v, const Vec3& gravity,
+                                    double dt) const {
+  // A point of the group is p = c + sum_k w_k (x_k - c) for the nodes' centre c, so it lies
+  // within spread * r of c (r: the nodes' largest distance from c), and moves over the step
+  // by at most spread * dt * (their largest speed) + dt^2 |g|. In the obstacle's frame c
+  // itself moves by m between the two poses. The signed distance changes by at most the
+  // distance moved, so when the obstacle is farther from c (at the start pose) than all
+  // that, no point of the group can touch it within the step.
+  const ContactPoints& points = table.points;
+  const Index* nodes = &points.nodes[table.group_order[table.group_start[g]] * points.per_point];
+  Vec3 c = Vec3::Zero();
+  for (int k = 0; k < points.per_point; ++k) c += x.col(nodes[k]);
+  c /= points.per_point;
+  double r = 0, speed = 0;
+  for (int k = 0; k < points.per_point; ++k) {
+    r = std::max(r, (x.col(nodes[k]) - c).norm());
+    speed = std::max(speed, v.col(nodes[k]).norm());
+  }
+  const double spread = table.group_spread[g];
+  const Vec3 local = start.to_local(c);
+  const double reach = spread * (r + dt * speed) + dt * dt * gravity.norm() + (end.to_local(c) - local).norm();
+  Vec3 normal;
+  return obstacle.local_distance(local, normal) > 1.01 * reach + 1e-12;
 }
 
 Nodes ContactSet::unit_positions(const Nodes& x) const {
@@ -359,16 +405,28 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
                  nullptr);
       continue;
     }
-    const ContactPoints& points = table_->points;
-    for (Index p = 0; p < points.size(); ++p) {
-      Vec3 xp = Vec3::Zero(), vp = Vec3::Zero();
-      for (int k = 0; k < points.per_point; ++k) {
-        const Index n = points.nodes[p * points.per_point + k];
-        const double w = points.weights[p * points.per_point + k];
-        xp += w * x.col(n);
-        vp += w * v.col(n);
+    const UnitTable& table = *table_;
+    const ContactPoints& points = table.points;
+    const Obstacle& obstacle = *links[j].obstacle;
+    for (int g = 0; g + 1 < static_cast<int>(table.group_start.size()); ++g) {
+      const auto first = table.group_order.begin() + table.group_start[g];
+      const auto last = table.group_order.begin() + table.group_start[g + 1];
+      // A group out of the obstacle's reach is skipped, unless one of its points carried a
+      // contact (which holds on where its point goes) or the surface deforms.
+      const bool carries = std::any_of(first, last, [&](Index p) { return first_contact_.value[p] >= 0; });
+      if (!carries && !obstacle.deforms() && group_out_of_reach(table, g, obstacle, start, end, x, v, gravity, dt))
+        continue;
+      for (auto it = first; it != last; ++it) {
+        const Index p = *it;
+        Vec3 xp = Vec3::Zero(), vp = Vec3::Zero();
+        for (int k = 0; k < points.per_point; ++k) {
+          const Index n = points.nodes[p * points.per_point + k];
+          const double w = points.weights[p * points.per_point + k];
+          xp += w * x.col(n);
+          vp += w * v.col(n);
+        }
+        consider(p, xp, vp, obstacle, j, start, end, links[j].friction, x, gravity, dt, carried, nullptr);
       }
-      consider(p, xp, vp, *links[j].obstacle, j, start, end, links[j].friction, x, gravity, dt, carried, nullptr);
     }
   }
   if (!parts_.empty()) {

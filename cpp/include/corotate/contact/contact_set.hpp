@@ -325,7 +325,16 @@ class ContactSet final : public SystemCoupling {
   struct UnitTable {
     ContactPoints points;
     Vec masses, stiffness, sizes;
+    // The points grouped by their nodes (one group per element that carries points): group g
+    // is points order[start[g], start[g + 1]), each a combination of the same nodes with
+    // sum_k |w_k| <= spread[g]. Detection skips a group that no obstacle can reach.
+    std::vector<int> group_start;
+    std::vector<Index> group_order;
+    std::vector<double> group_spread;
   };
+  // Whether detection can skip group g against a rigid obstacle (see detect()).
+  bool group_out_of_reach(const UnitTable& table, int g, const Obstacle& obstacle, const Pose& start, const Pose& end,
+                          const Nodes& x, const Nodes& v, const Vec3& gravity, double dt) const;
   std::shared_ptr<const UnitTable> nodes_table_, table_;
   static const ContactPoints kNoPoints;
   ContactSettings settings_;
