@@ -8,9 +8,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #ifdef __GLIBC__
 #include <malloc.h>
+#include <unistd.h>
 #endif
 #include <string>
 #include <vector>
@@ -230,7 +232,24 @@ void usage() {
 
 }  // namespace
 
+namespace {
+// Threads that wait at a barrier sleep instead of spinning on a core another process needs
+// (the Python package sets the same at import; errors-and-threads guide). libgomp reads the
+// variable once, as it loads, before main: so the benchmark sets it and starts itself again,
+// unless it was set (a run that measures the spinning policy sets OMP_WAIT_POLICY=active).
+void sleep_at_barriers(char** argv) {
+#if defined(__linux__)
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+  if (setenv("OMP_WAIT_POLICY", "PASSIVE", 0) != 0) return;
+  execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
+#else
+  (void)argv;
+#endif
+}
+}  // namespace
+
 int main(int argc, char** argv) {
+  sleep_at_barriers(argv);
   Options opt;
   try {
     // --scenario mass_spring: the explicit mass-spring benchmark (mass_spring_scenario.hpp).
@@ -298,6 +317,8 @@ int main(int argc, char** argv) {
         "scenario: corotational %s, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
         opt.element.c_str(), opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
         opt.checks ? "loud-failure checks" : "no checks", num_threads());
+    const char* policy = std::getenv("OMP_WAIT_POLICY");
+    std::printf("OpenMP threads waiting at barriers: OMP_WAIT_POLICY=%s\n", policy ? policy : "(unset)");
     std::printf("instruction set of the hot loops: %s\n", build_info().instruction_set.c_str());
     std::printf("direct solver (config 'direct'): %s (auto: %s from %ld DOFs); two-level coarse solver: %s\n",
                 DirectSolver(opt.direct).backend_name(), SparseCholesky::have_cholmod() ? "CHOLMOD" : "supernodal",

@@ -59,3 +59,18 @@ def test_the_benchmark_takes_any_mesh_read_mesh_reads(tmp_path):
         text=True,
     )
     assert missing.returncode == 2 and "no.vtu" in missing.stderr
+
+
+@pytest.mark.skipif(not BENCH.exists(), reason="the benchmark executable is installed by pip install . (not -e)")
+@pytest.mark.parametrize("policy, reported", [(None, "PASSIVE"), ("active", "active")])
+def test_the_benchmark_s_threads_sleep_at_barriers_unless_told_otherwise(policy, reported):
+    """As the Python package does at import: the executable sets OMP_WAIT_POLICY=PASSIVE
+    (starting itself again, since OpenMP reads it as it loads) unless it was set."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    if policy is not None:
+        env["OMP_WAIT_POLICY"] = policy
+    run = subprocess.run([str(BENCH), "--sizes", "1", "--steps", "1"], capture_output=True, text=True, env=env)
+    assert run.returncode == 0, run.stderr
+    assert f"OMP_WAIT_POLICY={reported}" in run.stdout

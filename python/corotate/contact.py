@@ -71,8 +71,9 @@ class ContactMembers:
 
     @property
     def contact_nodes(self) -> np.ndarray:
-        """The nodes that can touch obstacles (default: the surface's). Settable to any set of
-        node indices (ValueError for one out of range or listed twice)."""
+        """The nodes that can touch obstacles (default: the surface's; unused while a contact
+        surface is set). Settable to any set of node indices (ValueError for one out of range
+        or listed twice); setting them replaces a contact surface."""
         if not self._contact_nodes_set:
             return self._surface_nodes()
         return np.asarray(self._sim.contact_nodes, dtype=np.int64)
