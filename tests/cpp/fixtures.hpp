@@ -8,6 +8,7 @@
 #include "corotate/elements/element_matrices.hpp"
 #include "corotate/meshes/structured_box.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
+#include "test_driver.hpp"
 
 namespace fixtures {
 
@@ -17,6 +18,11 @@ inline std::mt19937& rng() {
   static std::mt19937 engine(20240611);
   return engine;
 }
+// Every test starts from the same seed (test_driver.hpp), whatever ran before it.
+inline const bool reseeded_before_each_test = [] {
+  ::test_driver::before_each().push_back([] { rng().seed(20240611); });
+  return true;
+}();
 
 inline double uniform(double lo = -1, double hi = 1) { return std::uniform_real_distribution<double>(lo, hi)(rng()); }
 

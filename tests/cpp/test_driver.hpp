@@ -52,6 +52,13 @@ inline void check_near(double a, double b, double tol, const char* a_text, const
   fail(file, line, msg.str());
 }
 
+// Called before every test (fixtures.hpp reseeds its random numbers there, so that a test's
+// inputs do not depend on which tests ran before it).
+inline std::vector<void (*)()>& before_each() {
+  static std::vector<void (*)()> hooks;
+  return hooks;
+}
+
 inline int run_all(int argc, char** argv) {
   int passed = 0, failed = 0;
   for (const TestCase& t : registry()) {
@@ -59,6 +66,7 @@ inline int run_all(int argc, char** argv) {
     for (int a = 1; a < argc; ++a) selected = selected || std::strstr(t.name, argv[a]) != nullptr;
     if (!selected) continue;
     failed_checks() = 0;
+    for (void (*hook)() : before_each()) hook();
     try {
       t.run();
     } catch (const std::exception& e) {
