@@ -305,16 +305,9 @@ void Simulation::set_part_contact(const Triangles& surface, const std::vector<in
       }
     }
   ensure_contact_properties();
-  NodeNeighbours neighbours;
-  if (self_contact) {
-    // The nodes that share an element with each node: the system's pattern, rows sorted.
-    const BlockSparseMatrix& pattern = model_->pattern();
-    neighbours.start = pattern.row_start();
-    neighbours.nodes.assign(pattern.columns().begin(), pattern.columns().end());
-    for (Index i = 0; i < n; ++i)
-      std::sort(neighbours.nodes.begin() + neighbours.start[i], neighbours.nodes.begin() + neighbours.start[i + 1]);
-  }
-  contacts_.set_parts(part_of_node, std::move(parts), friction, std::move(neighbours));
+  // A node's neighbourhood: the nodes it shares an element with, the blocks of its row of the
+  // model's pattern (fixed for the model's life, which is the simulation's).
+  contacts_.set_parts(part_of_node, std::move(parts), friction, self_contact ? &model_->pattern() : nullptr);
 }
 
 void Simulation::clear_part_contact() {

@@ -115,10 +115,8 @@ bool ContactSet::group_out_of_reach(const UnitTable& table, int g, const Obstacl
 Nodes ContactSet::unit_positions(const Nodes& x) const {
   if (!table_) return x;
   const ContactPoints& points = table_->points;
-  Nodes out = Nodes::Zero(3, points.size());
-  for (Index p = 0; p < points.size(); ++p)
-    for (int k = 0; k < points.per_point; ++k)
-      out.col(p) += points.weights[p * points.per_point + k] * x.col(points.nodes[p * points.per_point + k]);
+  Nodes out(3, points.size());
+  for (Index p = 0; p < points.size(); ++p) out.col(p) = points.of(p, x);
   return out;
 }
 
@@ -153,17 +151,11 @@ double first_touch(const Obstacle& obstacle, const Vec3& a, const Vec3& b, doubl
 
 }  // namespace
 
-bool NodeNeighbours::contains(Index i, Index j) const {
-  const auto first = nodes.begin() + start[i], last = nodes.begin() + start[i + 1];
-  return std::binary_search(first, last, j);
-}
-
 void ContactSet::set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction,
-                           NodeNeighbours self_neighbours) {
+                           const BlockSparseMatrix* neighbourhoods) {
   part_of_node_ = std::move(part_of_node);
   parts_ = std::move(parts);
-  self_neighbours_ =
-      self_neighbours.empty() ? nullptr : std::make_shared<const NodeNeighbours>(std::move(self_neighbours));
+  neighbourhoods_ = neighbourhoods;
   vertex_of_node_.assign(part_of_node_.size(), -1);
   for (const PartSurface& part : parts_)
     for (size_t k = 0; k < part.nodes.size(); ++k) vertex_of_node_[part.nodes[k]] = static_cast<int>(k);
@@ -325,7 +317,7 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
     bool near_node = false;
     for (int k = 0; k < 3; ++k) {
       corner[k] = part.nodes[tri[k]];
-      near_node = near_node || self_neighbours_->contains(i, corner[k]);
+      near_node = near_node || neighbourhoods_->block_index(i, corner[k]) >= 0;
     }
     if (near_node) continue;
     const Vec3 e0 = part.ends.col(tri[0]), e1 = part.ends.col(tri[1]), e2 = part.ends.col(tri[2]);
@@ -418,14 +410,8 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
         continue;
       for (auto it = first; it != last; ++it) {
         const Index p = *it;
-        Vec3 xp = Vec3::Zero(), vp = Vec3::Zero();
-        for (int k = 0; k < points.per_point; ++k) {
-          const Index n = points.nodes[p * points.per_point + k];
-          const double w = points.weights[p * points.per_point + k];
-          xp += w * x.col(n);
-          vp += w * v.col(n);
-        }
-        consider(p, xp, vp, obstacle, j, start, end, links[j].friction, x, gravity, dt, carried, nullptr);
+        consider(p, points.of(p, x), points.of(p, v), obstacle, j, start, end, links[j].friction, x, gravity, dt,
+                 carried, nullptr);
       }
     }
   }

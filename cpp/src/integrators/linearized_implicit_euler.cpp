@@ -15,7 +15,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 class LinearizedImplicitEuler final : public ImplicitIntegrator {
   // Solves after the first one, when contacts release. A fine embedded surface's many points
   // on a coarse element rocking on the floor needed more than 4 (the points the last pass
-  // left released went 0.8 mm into the floor; 0.24 mm with 8); resting bodies need none.
+  // left released went deeper into the floor: docs/notes/performance.md); resting bodies
+  // need none.
   static constexpr int kContactPasses = 8;
   static constexpr double kContactTolerance = 1e-4;  // PCG, where the active set reads the answer
   static constexpr int kContactIterations = 200;

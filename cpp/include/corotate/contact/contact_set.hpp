@@ -112,15 +112,6 @@ struct PartSurface {
   double spread = 0;                  // largest speed relative to it (self-contact's reach)
 };
 
-// The nodes that share an element with each node (itself included), for self-contact's
-// exclusion of a node's own neighbourhood: row i is nodes[start[i], start[i + 1]), sorted.
-struct NodeNeighbours {
-  std::vector<int> start;
-  std::vector<Index> nodes;
-  bool empty() const { return start.empty(); }
-  bool contains(Index i, Index j) const;
-};
-
 // Contact points other than the nodes (see above): per_point nodes and weights per point.
 struct ContactPoints {
   int per_point = 0;
@@ -128,6 +119,12 @@ struct ContactPoints {
   std::vector<double> weights;
   Index size() const { return per_point > 0 ? static_cast<Index>(nodes.size()) / per_point : 0; }
   bool empty() const { return per_point == 0; }
+  // Point p of nodal values y (3 x n): positions or velocities.
+  Vec3 of(Index p, const Nodes& y) const {
+    Vec3 sum = Vec3::Zero();
+    for (int k = 0; k < per_point; ++k) sum += weights[p * per_point + k] * y.col(nodes[p * per_point + k]);
+    return sum;
+  }
 };
 
 // One active contact of the step.
@@ -191,12 +188,13 @@ class ContactSet final : public SystemCoupling {
   const ContactSettings& settings() const { return settings_; }
 
   // Contact between the body's parts: part_of_node (one id per node, 0..P-1) and each
-  // part's closed surface; friction between any two parts. Empty parts: none. Non-empty
-  // self_neighbours: self-contact within each part too, away from these neighbourhoods.
+  // part's closed surface; friction between any two parts. Empty parts: none. With
+  // neighbourhoods (the body's pattern: block (i, j) when nodes i and j share an element;
+  // the caller keeps it alive), self-contact within each part too, away from them.
   void set_parts(std::vector<int> part_of_node, std::vector<PartSurface> parts, double friction,
-                 NodeNeighbours self_neighbours = {});
+                 const BlockSparseMatrix* neighbourhoods = nullptr);
   bool has_parts() const { return !parts_.empty(); }
-  bool has_self_contact() const { return self_neighbours_ != nullptr; }
+  bool has_self_contact() const { return neighbourhoods_ != nullptr; }
   const std::vector<PartSurface>& parts() const { return parts_; }
   const std::vector<int>& part_of_node() const { return part_of_node_; }
   double part_friction() const { return part_friction_; }
@@ -311,8 +309,7 @@ class ContactSet final : public SystemCoupling {
   std::vector<int> vertex_of_node_;  // a node's vertex on its part's surface (-1: none)
   std::vector<PartSurface> parts_;
   double part_friction_ = 0;
-  // Set once and shared by copies (a step's backup of the set copies it at every step).
-  std::shared_ptr<const NodeNeighbours> self_neighbours_;  // null: no self-contact
+  const BlockSparseMatrix* neighbourhoods_ = nullptr;  // the model's pattern; null: no self-contact
   Scratch<std::vector<int>> candidates_;                    // self-contact's range query
   std::vector<char> fixed_;                 // per node
   mutable std::vector<Mat3> coupling_;      // per contact: H of the last assembly (scaled)
