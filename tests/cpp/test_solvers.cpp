@@ -163,6 +163,60 @@ TEST(block_cholesky_solves_in_double_and_in_float32_sums) {
   }
 }
 
+TEST(block_cholesky_refactorizes_a_matrix_of_the_same_pattern_numerically) {
+  // A second matrix of the same pattern (stiffer springs on some diagonal blocks, the
+  // off-diagonal blocks scaled) keeps the ordering and structure: the same answers as a
+  // factor built afresh, in both arrangements. An indefinite one of that pattern throws and
+  // leaves the factor empty; a matrix of another pattern is factorized afresh.
+  const Problem p;
+  BlockSparseMatrix changed = p.system.A;
+  for (Index i = 0; i < changed.num_nodes(); ++i)
+    for (int e = changed.row_start()[i]; e < changed.row_start()[i + 1]; ++e)
+      if (changed.columns()[e] == i) changed.block(e).diagonal().array() += 1e3 * double(i % 3);
+      else changed.block(e) *= 1.0 + 0.05 * double((i + changed.columns()[e]) % 4);  // (symmetric)
+  for (const size_t latency_bound_bytes : {BlockCholesky::kLatencyBoundBytes, size_t(0)}) {
+    BlockCholesky kept, fresh;
+    kept.factorize(p.system.A, latency_bound_bytes);
+    kept.factorize(changed, latency_bound_bytes);
+    fresh.factorize(changed, latency_bound_bytes);
+    CHECK(kept.numeric_refactorizations() == 1 && fresh.numeric_refactorizations() == 0);
+    CHECK(kept.order() == fresh.order() && kept.factor_blocks() == fresh.factor_blocks());
+    const Index n = p.b.size();
+    Vec x(n), expected(n), xs(n), expected_single(n);
+    kept.solve(p.b, x);
+    fresh.solve(p.b, expected);
+    kept.solve_single(p.b, xs);
+    fresh.solve_single(p.b, expected_single);
+    CHECK((x - expected).norm() <= 1e-12 * expected.norm());
+    CHECK((xs - expected_single).norm() <= 1e-6 * expected.norm());
+    CHECK(relative_residual(changed, x, p.b) < 1e-5);
+    // Back to the first matrix: numerically again, and its own answer.
+    kept.factorize(p.system.A, latency_bound_bytes);
+    kept.solve(p.b, x);
+    CHECK(kept.numeric_refactorizations() == 2);
+    CHECK((x - p.exact).norm() < 1e-4 * p.exact.norm());
+    BlockSparseMatrix indefinite = p.system.A;
+    indefinite.block(indefinite.diagonal_block(indefinite.num_nodes() - 1)) *= -1.0;
+    CHECK_THROWS(kept.factorize(indefinite, latency_bound_bytes), NotPositiveDefinite);
+    CHECK(kept.empty());
+    kept.factorize(p.system.A, latency_bound_bytes);  // afresh after the failure
+    CHECK(kept.numeric_refactorizations() == 2 && !kept.empty());
+    kept.solve(p.b, x);
+    CHECK((x - p.exact).norm() < 1e-4 * p.exact.norm());
+  }
+  // Another pattern (a larger mesh): afresh.
+  const fixtures::Mesh larger = fixtures::tet_beam(5, 2, 2);
+  const auto other = fixtures::implicit_system(larger, Material{1e6, 0.3, 1000.0}, 0.01);
+  BlockCholesky factor;
+  factor.factorize(p.system.A);
+  factor.factorize(other.A);
+  CHECK(factor.numeric_refactorizations() == 0);
+  const Vec b = fixtures::random_matrix<Vec>(other.A.num_dofs(), 1);
+  Vec x(b.size());
+  factor.solve(b, x);
+  CHECK(relative_residual(other.A, x, b) < 1e-5);
+}
+
 TEST(block_cholesky_turned_solve_is_the_rotated_solve) {
   // solve(b, x, turn) = R A^-1 R^T b, R = diag(turn[i]): one rotation per node.
   const Problem p;

@@ -25,9 +25,15 @@ COROTATE_CLONE_INLINE void write_out(Vec& x, int node, const Vec3& v, const Mat3
 }  // namespace
 
 void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_bytes) {
+  if (same_pattern(A, latency_bound_bytes)) {
+    refactorize_numerically(A);
+    ++numeric_refactorizations_;
+    return;
+  }
   const Index n = A.num_nodes();
   const auto& start = A.row_start();
   const auto& cols = A.columns();
+  order_.clear();  // (empty until it succeeds)
 
   // 1. AMD ordering of the node graph.
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> graph(n, n);
@@ -40,9 +46,9 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_b
   }
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse_permutation;
   Eigen::AMDOrdering<int>()(graph, inverse_permutation);
-  order_.assign(inverse_permutation.indices().data(), inverse_permutation.indices().data() + n);
+  std::vector<int> order(inverse_permutation.indices().data(), inverse_permutation.indices().data() + n);
   std::vector<int> position(n);
-  for (Index k = 0; k < n; ++k) position[order_[k]] = static_cast<int>(k);
+  for (Index k = 0; k < n; ++k) position[order[k]] = static_cast<int>(k);
 
   // 2. The permuted scalar matrix, factorized in natural order.
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> permuted(3 * n, 3 * n);
@@ -59,16 +65,15 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_b
   }
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>, Eigen::Lower, Eigen::NaturalOrdering<int>>
       llt(permuted);
-  if (llt.info() != Eigen::Success) {
-    order_.clear();
+  if (llt.info() != Eigen::Success)
     throw NotPositiveDefinite("Cholesky factorization failed: the matrix is not positive definite");
-  }
   const auto& L = llt.matrixL().nestedExpression();  // CSC, lower triangular
 
   // 3. Repack as 3x3 blocks. Column k's three scalar columns share their block rows.
+  order_.swap(order);
   column_start_.assign(1, 0);
   rows_.clear();
-  blocks_.clear();
+  factor_.clear();
   inverse_diagonal_.assign(n, Mat3::Zero());
   std::vector<int> slot(n, -1);  // block row -> index in this column's list
   for (Index k = 0; k < n; ++k) {
@@ -84,41 +89,125 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_b
         if (slot[row_block] < 0) {
           slot[row_block] = static_cast<int>(rows_.size());
           rows_.push_back(row_block);
-          blocks_.resize(blocks_.size() + 9, 0.0f);
+          factor_.push_back(Mat3::Zero());
         }
-        blocks_[9 * slot[row_block] + 3 * c + r] = static_cast<float>(it.value());
+        factor_[slot[row_block]](r, c) = it.value();
       }
     for (size_t b = first; b < rows_.size(); ++b) slot[rows_[b]] = -1;
     column_start_.push_back(static_cast<int>(rows_.size()));
     inverse_diagonal_[k] = diagonal.triangularView<Eigen::Lower>().solve(Mat3::Identity());
   }
-  blocks_.resize(blocks_.size() + 3, 0.0f);
   // A factor that fits in a core's cache is arranged for latency (a larger one would then
   // no longer fit, or lose the locality of AMD's postorder).
-  row_start_.clear();
-  row_columns_.clear();
-  row_blocks_.clear();
-  if (blocks_.size() * sizeof(float) <= latency_bound_bytes) arrange_for_latency();
+  arranged_ = 9 * rows_.size() * sizeof(float) <= latency_bound_bytes;
+  if (arranged_) arrange_for_latency();
+  index_by_rows();
+  position_.resize(n);
+  for (Index k = 0; k < n; ++k) position_[order_[k]] = static_cast<int>(k);
+  pattern_start_ = start;
+  pattern_columns_ = cols;
+  latency_bound_bytes_ = latency_bound_bytes;
+  pack_single();
+  work_.resize(3 * n);
+  work_single_.assign(4 * n, 0.0f);
+}
+
+bool BlockCholesky::same_pattern(const BlockSparseMatrix& A, size_t latency_bound_bytes) const {
+  return !order_.empty() && latency_bound_bytes == latency_bound_bytes_ && A.row_start() == pattern_start_ &&
+         A.columns() == pattern_columns_;
+}
+
+void BlockCholesky::refactorize_numerically(const BlockSparseMatrix& A) {
+  // Left-looking, column by column in elimination order: column k of L is A's column k less
+  // the products L_ij L_kj^T of every earlier column j that has a block in row k, the blocks
+  // below the diagonal then multiplied by L_kk^-T. The structure (which L_ik exist) is the
+  // kept one: it holds every block these updates reach.
+  const Index n = static_cast<Index>(order_.size());
+  const auto& start = A.row_start();
+  const auto& cols = A.columns();
+  factor_.resize(rows_.size());
+  column_work_.resize(n);
+  for (Index k = 0; k < n; ++k) {
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) column_work_[rows_[p]].setZero();
+    Mat3 diagonal = Mat3::Zero();
+    const int node = order_[k];
+    for (int e = start[node]; e < start[node + 1]; ++e) {
+      const int i = position_[cols[e]];
+      if (i == k) diagonal = A.block(e);
+      else if (i > k) column_work_[i] = A.block(e).transpose();  // A(i, k) = A(k, i)^T
+    }
+    for (int q = row_start_[k]; q < row_start_[k + 1]; ++q) {
+      const int j = row_columns_[q];
+      const Mat3 Lkj = factor_[row_block_[q]];
+      diagonal.noalias() -= Lkj * Lkj.transpose();
+      for (int p = column_start_[j]; p < column_start_[j + 1]; ++p)
+        if (rows_[p] > k) column_work_[rows_[p]].noalias() -= factor_[p] * Lkj.transpose();
+    }
+    const Eigen::LLT<Mat3> llt(diagonal);
+    if (llt.info() != Eigen::Success || !diagonal.allFinite()) {
+      order_.clear();  // empty: the next factorization starts afresh
+      throw NotPositiveDefinite("Cholesky factorization failed: the matrix is not positive definite");
+    }
+    const Mat3 inverse = Mat3(llt.matrixL()).triangularView<Eigen::Lower>().solve(Mat3::Identity());
+    inverse_diagonal_[k] = inverse;
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p)
+      factor_[p].noalias() = column_work_[rows_[p]] * inverse.transpose();
+  }
+  pack_single();
+}
+
+void BlockCholesky::pack_single() {
+  const size_t blocks = rows_.size();
+  blocks_.assign(9 * blocks + 3, 0.0f);
+  for (size_t p = 0; p < blocks; ++p)
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) blocks_[9 * p + 3 * c + r] = static_cast<float>(factor_[p](r, c));
+  if (arranged_) {
+    row_blocks_.assign(9 * blocks + 3, 0.0f);
+    for (size_t q = 0; q < blocks; ++q)  // stored by rows: a row reads four wide like a column
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) row_blocks_[9 * q + 3 * r + c] = static_cast<float>(factor_[row_block_[q]](r, c));
+  } else {
+    row_blocks_.clear();
+  }
+  const size_t n = order_.size();
   inverse_diagonal_single_.assign(24 * n, 0.0f);
-  for (Index k = 0; k < n; ++k)
+  for (size_t k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) {
         inverse_diagonal_single_[24 * k + 4 * c + r] = static_cast<float>(inverse_diagonal_[k](r, c));
         inverse_diagonal_single_[24 * k + 12 + 4 * c + r] = static_cast<float>(inverse_diagonal_[k](c, r));
       }
-  work_.resize(3 * n);
-  work_single_.assign(4 * n, 0.0f);
+  // A large factor keeps only its float32 copy: the double one is rebuilt by a refactorization.
+  if (!arranged_) std::vector<Mat3>().swap(factor_);
+}
+
+void BlockCholesky::index_by_rows() {
+  const Index n = static_cast<Index>(order_.size());
+  row_start_.assign(n + 1, 0);
+  for (int row : rows_) ++row_start_[row + 1];
+  for (Index k = 0; k < n; ++k) row_start_[k + 1] += row_start_[k];
+  row_columns_.resize(rows_.size());
+  row_block_.resize(rows_.size());
+  std::vector<int> next(row_start_.begin(), row_start_.end() - 1);
+  for (Index k = 0; k < n; ++k)  // columns ascending: each row's blocks come in column order
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
+      const int q = next[rows_[p]]++;
+      row_columns_[q] = static_cast<int>(k);
+      row_block_[q] = p;
+    }
 }
 
 void BlockCholesky::arrange_for_latency() {
   const Index n = static_cast<Index>(order_.size());
-  // 1. The positions level by level of the elimination tree: first every leaf, then every
+  // The positions level by level of the elimination tree: first every leaf, then every
   // node whose children are all leaves, and so on (AMD's order within a level). A node's
   // parent is the first block row below its diagonal, on a higher level, so the new order is
   // another order of the same tree: the same factor, its columns stored elsewhere. In AMD's
   // postorder a column is mostly followed by its parent, which waits for it (a chain of
   // dependent loads, stores and multiply-adds that the processor cannot overlap); within a
   // level no column waits for another. Only the tree's top (a node per level) stays a chain.
+  // (solve_single's forward sweep then reads the blocks by rows: index_by_rows, pack_single.)
   std::vector<int> level(n, 0);
   for (Index k = 0; k < n; ++k) {
     if (column_start_[k] == column_start_[k + 1]) continue;  // a root
@@ -129,40 +218,22 @@ void BlockCholesky::arrange_for_latency() {
   for (Index k = 0; k < n; ++k) by_level[k] = static_cast<int>(k);
   std::stable_sort(by_level.begin(), by_level.end(), [&](int a, int b) { return level[a] < level[b]; });
   for (Index k = 0; k < n; ++k) position[by_level[k]] = static_cast<int>(k);
-  {
-    std::vector<int> order(n), column_start(1, 0), rows;
-    std::vector<float> blocks;
-    std::vector<Mat3> inverse_diagonal(n);
-    rows.reserve(rows_.size());
-    blocks.reserve(blocks_.size());
-    for (Index m = 0; m < n; ++m) {
-      const int k = by_level[m];
-      order[m] = order_[k];
-      inverse_diagonal[m] = inverse_diagonal_[k];
-      for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
-        rows.push_back(position[rows_[p]]);
-        blocks.insert(blocks.end(), blocks_.begin() + 9 * p, blocks_.begin() + 9 * p + 9);
-      }
-      column_start.push_back(static_cast<int>(rows.size()));
-    }
-    blocks.resize(blocks.size() + 3, 0.0f);
-    order_.swap(order), column_start_.swap(column_start), rows_.swap(rows), blocks_.swap(blocks);
-    inverse_diagonal_.swap(inverse_diagonal);
-  }
-  // 2. The blocks a second time, row by row, for solve_single's forward sweep.
-  row_start_.assign(n + 1, 0);
-  for (int row : rows_) ++row_start_[row + 1];
-  for (Index k = 0; k < n; ++k) row_start_[k + 1] += row_start_[k];
-  row_columns_.resize(rows_.size());
-  row_blocks_.assign(9 * rows_.size() + 3, 0.0f);
-  std::vector<int> next(row_start_.begin(), row_start_.end() - 1);
-  for (Index k = 0; k < n; ++k)  // columns ascending: each row's blocks come in column order
+  std::vector<int> order(n), column_start(1, 0), rows;
+  std::vector<Mat3> factor, inverse_diagonal(n);
+  rows.reserve(rows_.size());
+  factor.reserve(factor_.size());
+  for (Index m = 0; m < n; ++m) {
+    const int k = by_level[m];
+    order[m] = order_[k];
+    inverse_diagonal[m] = inverse_diagonal_[k];
     for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
-      const int q = next[rows_[p]]++;
-      row_columns_[q] = static_cast<int>(k);
-      for (int r = 0; r < 3; ++r)  // stored by rows: a row reads four wide like a column
-        for (int c = 0; c < 3; ++c) row_blocks_[9 * q + 3 * r + c] = blocks_[9 * p + 3 * c + r];
+      rows.push_back(position[rows_[p]]);
+      factor.push_back(factor_[p]);
     }
+    column_start.push_back(static_cast<int>(rows.size()));
+  }
+  order_.swap(order), column_start_.swap(column_start), rows_.swap(rows), factor_.swap(factor);
+  inverse_diagonal_.swap(inverse_diagonal);
 }
 
 void BlockCholesky::solve(const Vec& b, Vec& x, const Mat3* turn) {
@@ -234,7 +305,7 @@ COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x, const
     if (p < end) add_block(p, a0, a1, a2);
     out[0] = sum3(a0 + c0), out[1] = sum3(a1 + c1), out[2] = sum3(a2 + c2);
   };
-  if (!row_start_.empty()) {
+  if (arranged_) {
     // Forward: L y = b pulling, y_k = L_kk^-1 (b_k - sum_j<k L_kj y_j) over row k's blocks.
     // Pushing each solved y_k into the entries that still wait for it (the column sweep
     // below) is a load, subtract and store of the same entry by block after block, each

@@ -115,13 +115,13 @@ void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
     turn(A.num_nodes(), true);  // (the rotations are built afresh below)
     refresh_ = false;
     if (!saved_.factor_replaced) {  // the first replacement since save_state: keep the old
-      saved_.factor = std::move(factor_);
+      saved_.factor = factor_;  // (a copy: factor_ keeps its ordering and structure, and a
+                                // matrix of the same pattern is then factorized numerically only)
       saved_.rotations = std::move(rotations_);
       saved_.factor_coupled = factor_coupled_;
       saved_.factor_contacts = factor_contacts_;
       saved_.factor_replaced = true;
     }
-    factor_ = BlockCholesky();
     rotations_ = NodeRotations();
     // (Throws NotPositiveDefinite for an indefinite matrix.)
     factor_coupled_ = coupling_ != nullptr;

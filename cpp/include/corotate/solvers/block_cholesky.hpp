@@ -24,9 +24,14 @@ class BlockCholesky {
  public:
   // Factors of up to this many bytes of off-diagonal blocks are arranged for latency.
   static constexpr size_t kLatencyBoundBytes = 256 * 1024;
-  // Factorizes A (symmetric positive definite); throws SolverFailure otherwise.
-  // latency_bound_bytes: the largest factor arranged for latency (a test sets it to reach
-  // both arrangements).
+  // Factorizes A (symmetric positive definite); throws NotPositiveDefinite otherwise (and is
+  // then empty). latency_bound_bytes: the largest factor arranged for latency (a test sets it
+  // to reach both arrangements).
+  // A matrix of the same pattern as the last one factorized is factorized numerically only:
+  // the ordering and the factor's structure depend on the pattern alone, so they are kept
+  // and only the blocks computed afresh (refactorize_numerically), about a fifth of the time
+  // on a 720-tet body. A preconditioner that refreshes its factor as contacts come and go
+  // pays that each time.
   void factorize(const BlockSparseMatrix& A, size_t latency_bound_bytes = kLatencyBoundBytes);
   bool empty() const { return order_.empty(); }
   // x = A^-1 b (approximately: single-precision factor). x and b: num_dofs. With `turn`
@@ -43,21 +48,39 @@ class BlockCholesky {
   // The elimination order: order()[k] is the node eliminated k-th.
   const std::vector<int>& order() const { return order_; }
   // Whether it was arranged for latency (a small factor).
-  bool arranged_for_latency() const { return !row_start_.empty(); }
+  bool arranged_for_latency() const { return arranged_; }
+  // Factorizations that kept the last one's ordering and structure.
+  int numeric_refactorizations() const { return numeric_refactorizations_; }
 
  private:
   void arrange_for_latency();
+  // The off-diagonal blocks indexed by rows (row_start_, row_columns_, row_block_).
+  void index_by_rows();
+  bool same_pattern(const BlockSparseMatrix& A, size_t latency_bound_bytes) const;
+  // A's blocks into the kept structure: a left-looking block Cholesky in double precision.
+  void refactorize_numerically(const BlockSparseMatrix& A);
+  // Packs the float32 copies (blocks_ from factor_, row_blocks_, inverse_diagonal_single_).
+  void pack_single();
   std::vector<int> order_;             // order_[k] = node placed at position k
   std::vector<int> column_start_;      // block column k: off-diagonal blocks [start[k], start[k+1])
   std::vector<int> rows_;              // block row (position) of each off-diagonal block
   // 9 per off-diagonal block, column by column (entry (r, c) at 3 c + r), then 3 zeros: a
   // column read four wide takes the next value along (solve_single keeps it out of its sums).
   std::vector<float> blocks_;
-  // The off-diagonal blocks again, row by row (row k's from row_start_[k], with their block
-  // columns), each stored by rows (entry (r, c) at 3 r + c), then 3 zeros; empty for a
-  // factor not arranged for latency.
-  std::vector<int> row_start_, row_columns_;
+  // The off-diagonal blocks by rows: row k's are row_block_[row_start_[k] ...
+  // row_start_[k + 1]) (indices into the columns' list), in block columns row_columns_.
+  std::vector<int> row_start_, row_columns_, row_block_;
+  // For a factor arranged for latency, those blocks' values in that order for solve_single's
+  // forward sweep, each stored by rows (entry (r, c) at 3 r + c), then 3 zeros; else empty.
   std::vector<float> row_blocks_;
+  bool arranged_ = false;
+  // What a numeric refactorization needs: the pattern factorized (A's row starts and
+  // columns), each node's position, the factor in double precision and a work column.
+  std::vector<int> pattern_start_, pattern_columns_, position_;
+  size_t latency_bound_bytes_ = 0;
+  std::vector<Mat3> factor_;  // the off-diagonal blocks L_ik, as blocks_
+  std::vector<Mat3> column_work_;
+  int numeric_refactorizations_ = 0;
   std::vector<Mat3> inverse_diagonal_; // L_kk^-1 (lower triangular)
   // Per node, the columns of L_kk^-1 and then of L_kk^-T, four floats each (the fourth 0).
   std::vector<float> inverse_diagonal_single_;
