@@ -136,6 +136,9 @@ def test_ctrl_c_stops_the_command_and_the_restart_computes_only_what_is_missing(
         text=True,
         env=env,
         start_new_session=True,
+        # Ctrl-C's default in the child even when this test runs in a process that ignores it
+        # (a shell's background job does, and its children inherit that).
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     deadline = time.monotonic() + 120
     while not ((out / "runs").is_dir() and len(os.listdir(out / "runs")) > 60):
@@ -186,6 +189,15 @@ def test_a_ctrl_c_that_code_swallowed_is_still_remembered():
     Python's own handler is back afterwards."""
     from corotate.sweep.runner import _ctrl_c_remembered
 
+    # Python's own handler first, as in a terminal (a shell's background job ignores Ctrl-C).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        swallowed_ctrl_c_is_remembered(_ctrl_c_remembered)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def swallowed_ctrl_c_is_remembered(_ctrl_c_remembered):
     with _ctrl_c_remembered() as pressed:
         try:
             os.kill(os.getpid(), signal.SIGINT)
