@@ -10,6 +10,7 @@
 #include "corotate/build_info.hpp"
 #include "corotate/elements/element_matrices.hpp"
 #include "corotate/integrators/integrator.hpp"
+#include "corotate/models/joined_model.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/models/rotation_extraction.hpp"
 #include "corotate/parallel.hpp"
@@ -158,6 +159,14 @@ PYBIND11_MODULE(_core, m) {
            py::arg("thickness") = ModelOptions{}.thickness, py::arg("project_psd") = ModelOptions{}.project_psd,
            "Force model by name (see model_names) on one cell type: thickness of triangle sheets [m], project_psd\n"
            "(clamp each element stiffness to positive semi-definite).")
+      .def_static(
+          "joined",
+          [](const std::vector<const ForceModel*>& parts) -> std::unique_ptr<ForceModel> {
+            return std::make_unique<JoinedModel>(parts);
+          },
+          py::arg("parts"),
+          "One model of several bodies' models side by side (copies of them), their nodes one body after the\n"
+          "other: a scene of bodies of different cell types or force models.")
       .def_property_readonly("name", &ForceModel::name)
       .def_property_readonly("num_nodes", &ForceModel::num_nodes)
       .def(

@@ -25,6 +25,7 @@ from .driven_body import SimulationWarning
 from .embedding import EmbeddedSurface, read_surface
 from .explicit import ExplicitSimulation
 from .feedback import HapticFeedback, ToolFeedback
+from .joined_body import JoinedBody
 from .mass_spring import MassSpringBody, SpringGeometry
 from .material import Material
 from .mesh import SUPPORTED_CELL_TYPES, Mesh, beam, box, cell_types, read_mesh, rectangle, write_mesh
@@ -54,6 +55,7 @@ __all__ = [
     "Direct",
     "Simulation",
     "Scene",
+    "JoinedBody",
     "MassSpringBody",
     "SpringGeometry",
     "ExplicitSimulation",

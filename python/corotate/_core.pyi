@@ -106,6 +106,12 @@ class RegionMaterials:
     def materials(self) -> list[Material]:
         ...
 class ForceModel:
+    @staticmethod
+    def joined(parts: collections.abc.Sequence[ForceModel]) -> ForceModel:
+        """
+        One model of several bodies' models side by side (copies of them), their nodes one body after the
+        other: a scene of bodies of different cell types or force models.
+        """
     def __init__(self, model: str, cell_type: str, points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], cells: typing.Annotated[numpy.typing.ArrayLike, numpy.int64], material: RegionMaterials, thickness: typing.SupportsFloat | typing.SupportsIndex = 1.0, project_psd: bool = False) -> None:
         """
         Force model by name (see model_names) on one cell type: thickness of triangle sheets [m], project_psd

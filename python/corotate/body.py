@@ -14,6 +14,7 @@ from .choices import MODELS, ModelName
 from .material import Material
 from .mesh import Mesh
 from .regions import Materials, check_cell_regions, dense_regions, materials_by_region
+from .surfaces import boundary_triangles, surface_nodes
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -46,7 +47,65 @@ def _read_only_copy(mesh: Mesh, check: bool = True) -> Mesh:
     return copy
 
 
-class Body(SettableOnly):
+class ModelQueries:
+    """The force model's answers at given positions, for Body and JoinedBody (which provide
+    ``_force_model``, ``n_nodes`` and ``_rest_points``)."""
+
+    _force_model: _core.ForceModel
+
+    @property
+    def n_nodes(self) -> int:
+        raise NotImplementedError
+
+    @property
+    def _rest_points(self) -> np.ndarray:
+        raise NotImplementedError
+
+    def internal_forces(self, positions: ArrayLike) -> np.ndarray:
+        """Internal elastic forces (n, 3) at positions (n, 3)."""
+        return self._force_model.internal_forces(self._check_positions(positions))
+
+    def energy(self, positions: ArrayLike) -> float:
+        """Elastic energy at positions (n, 3)."""
+        return self._force_model.energy(self._check_positions(positions))
+
+    def stiffness_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
+        """Stiffness K (3n x 3n, DOF = 3*node + axis) at positions (default: rest).
+
+        For the co-rotational model this is the rotated stiffness sum R_e K_e R_e^T; for the
+        hyperelastic models the exact Hessian of the energy (element-wise PSD-projected with
+        project_psd)."""
+        x = self._rest_points if positions is None else self._check_positions(positions)
+        return _csr(self._force_model.stiffness_csr(x), 3 * self.n_nodes)
+
+    def geometric_stiffness(self, positions: ArrayLike | None) -> sp.csr_matrix:
+        """Initial-stress (geometric) stiffness K_sigma at positions (n, 3), hyperelastic models.
+
+        K_sigma has blocks sum_q w_q (G_a^T S G_b) I_3 (S the second Piola-Kirchhoff stress,
+        G_a = dN_a/dX at quadrature point q), the stress part of K_T = K_0 + K_u + K_sigma
+        (paper eq. 6). Raises ValueError for "linear" and "corotational"."""
+        return _csr(self._force_model.geometric_stiffness_csr(self._check_positions(positions)), 3 * self.n_nodes)
+
+    def tangent_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
+        """The exact tangent -df/dx (3n x 3n) at positions (default: rest): for the
+        co-rotational model it includes the derivative of the rotations, which
+        stiffness_matrix leaves out (for hexahedra it is not symmetric: their force is not
+        the gradient of an energy); for the other models it equals stiffness_matrix."""
+        x = self._rest_points if positions is None else self._check_positions(positions)
+        return _csr(self._force_model.tangent_csr(x), 3 * self.n_nodes)
+
+    def mass_matrix(self, lumped: bool = False) -> sp.csr_matrix:
+        """Consistent (default) or lumped mass matrix (3n x 3n)."""
+        return _csr(self._force_model.mass_csr(bool(lumped)), 3 * self.n_nodes)
+
+    def _check_positions(self, positions: ArrayLike | None) -> np.ndarray:
+        x = np.ascontiguousarray(positions, dtype=np.float64)
+        if x.shape != (self.n_nodes, 3):
+            raise ValueError(f"positions must have shape ({self.n_nodes}, 3), got {x.shape}")
+        return x
+
+
+class Body(ModelQueries, SettableOnly):
     """A mesh of one cell type with its material(s) and a force model.
 
     mesh      Mesh (any solid cell type of corotate.cell_types(); triangle cells for sheets)
@@ -193,45 +252,16 @@ class Body(SettableOnly):
     def n_nodes(self) -> int:
         return self.mesh.n_nodes
 
-    def internal_forces(self, positions: ArrayLike) -> np.ndarray:
-        """Internal elastic forces (n, 3) at positions (n, 3)."""
-        return self._force_model.internal_forces(self._check_positions(positions))
+    @property
+    def _rest_points(self) -> np.ndarray:
+        return self._mesh.points
 
-    def energy(self, positions: ArrayLike) -> float:
-        """Elastic energy at positions (n, 3)."""
-        return self._force_model.energy(self._check_positions(positions))
+    # What a simulation of the body reads of its surface and pieces (JoinedBody has the same).
+    def _boundary_triangles(self) -> np.ndarray:
+        return boundary_triangles(self._mesh)
 
-    def stiffness_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
-        """Stiffness K (3n x 3n, DOF = 3*node + axis) at positions (default: rest).
+    def _surface_nodes(self) -> np.ndarray:
+        return surface_nodes(self._mesh)
 
-        For the co-rotational model this is the rotated stiffness sum R_e K_e R_e^T; for the
-        hyperelastic models the exact Hessian of the energy (element-wise PSD-projected with
-        project_psd)."""
-        x = self.mesh.points if positions is None else self._check_positions(positions)
-        return _csr(self._force_model.stiffness_csr(x), 3 * self.n_nodes)
-
-    def geometric_stiffness(self, positions: ArrayLike | None) -> sp.csr_matrix:
-        """Initial-stress (geometric) stiffness K_sigma at positions (n, 3), hyperelastic models.
-
-        K_sigma has blocks sum_q w_q (G_a^T S G_b) I_3 (S the second Piola-Kirchhoff stress,
-        G_a = dN_a/dX at quadrature point q), the stress part of K_T = K_0 + K_u + K_sigma
-        (paper eq. 6). Raises ValueError for "linear" and "corotational"."""
-        return _csr(self._force_model.geometric_stiffness_csr(self._check_positions(positions)), 3 * self.n_nodes)
-
-    def tangent_matrix(self, positions: ArrayLike | None = None) -> sp.csr_matrix:
-        """The exact tangent -df/dx (3n x 3n) at positions (default: rest): for the
-        co-rotational model it includes the derivative of the rotations, which
-        stiffness_matrix leaves out (for hexahedra it is not symmetric: their force is not
-        the gradient of an energy); for the other models it equals stiffness_matrix."""
-        x = self.mesh.points if positions is None else self._check_positions(positions)
-        return _csr(self._force_model.tangent_csr(x), 3 * self.n_nodes)
-
-    def mass_matrix(self, lumped: bool = False) -> sp.csr_matrix:
-        """Consistent (default) or lumped mass matrix (3n x 3n)."""
-        return _csr(self._force_model.mass_csr(bool(lumped)), 3 * self.n_nodes)
-
-    def _check_positions(self, positions: ArrayLike | None) -> np.ndarray:
-        x = np.ascontiguousarray(positions, dtype=np.float64)
-        if x.shape != (self.n_nodes, 3):
-            raise ValueError(f"positions must have shape ({self.n_nodes}, 3), got {x.shape}")
-        return x
+    def _parts(self) -> np.ndarray:
+        return self._mesh.connected_parts()

@@ -47,7 +47,7 @@ class ContactMembers:
             )
         mu = real_number(friction, "friction")
         if not self._contact_nodes_set:
-            self._sim.contact_nodes = self._surface_nodes()
+            self._sim.contact_nodes = self._body._surface_nodes()
             self._contact_nodes_set = True
         self._sim.add_obstacle(obstacle._core, mu)
         self._obstacles.append(obstacle)
@@ -75,7 +75,7 @@ class ContactMembers:
         surface is set). Settable to any set of node indices (ValueError for one out of range
         or listed twice); setting them replaces a contact surface."""
         if not self._contact_nodes_set:
-            return self._surface_nodes()
+            return self._body._surface_nodes()
         return np.asarray(self._sim.contact_nodes, dtype=np.int64)
 
     @contact_nodes.setter
@@ -170,15 +170,13 @@ class ContactMembers:
         one piece may then use it too. ValueError (nothing changed) for a mesh of one piece
         without self_contact, a part whose boundary is not a closed surface, an explicit
         integrator, a bad friction, or parts that start inside each other."""
-        from .surfaces import boundary_triangles
-
         mu = real_number(friction, "friction")
         if not isinstance(self_contact, (bool, np.bool_)):
             raise TypeError(f"self_contact must be True or False, not {self_contact!r}")
         if not self._contact_nodes_set:
-            self._sim.contact_nodes = self._surface_nodes()
+            self._sim.contact_nodes = self._body._surface_nodes()
             self._contact_nodes_set = True
-        self._sim.set_part_contact(boundary_triangles(self._body.mesh), self.parts.tolist(), mu, bool(self_contact))
+        self._sim.set_part_contact(self._body._boundary_triangles(), self.parts.tolist(), mu, bool(self_contact))
 
     def clear_part_contact(self) -> None:
         """The parts pass through each other again."""
@@ -200,7 +198,7 @@ class ContactMembers:
         of their first node (a ``Scene``'s bodies, in the order given). Read-only."""
         parts = getattr(self, "_parts_cache", None)
         if parts is None:  # the body is immutable: found once
-            parts = _parts(self._body.mesh.cells, self._body.n_nodes)
+            parts = self._body._parts()
             parts.flags.writeable = False
             self._parts_cache = parts
         return parts
@@ -216,42 +214,3 @@ class ContactMembers:
         on_part = forces[(nodes_part == part) & (touched == other)].sum(axis=0)
         on_other = forces[(nodes_part == other) & (touched == part)].sum(axis=0)
         return on_part - on_other
-
-    def _surface_nodes(self) -> np.ndarray:
-        """Every node on the surface: the boundary faces' corners and, for quadratic cells,
-        the mid-edge nodes of their edges (left out, they would pass through obstacles)."""
-        from .mesh import _CELL_TYPES
-
-        mesh = self._body.mesh
-        faces = mesh.boundary_faces()
-        corners = np.unique(faces)
-        facts = _CELL_TYPES[mesh.cell_type]
-        if facts["order"] == 1:
-            return corners
-        edges, first_mid = np.asarray(facts["edges"]), int(facts["num_corners"])
-        n = mesh.n_nodes
-
-        def keys(pairs: np.ndarray) -> np.ndarray:
-            pairs = np.sort(pairs, axis=1)
-            return pairs[:, 0] * n + pairs[:, 1]
-
-        around = np.stack([faces, np.roll(faces, -1, axis=1)], axis=-1).reshape(-1, 2)  # each face's edges
-        cell_edges = mesh.cells[:, edges].reshape(-1, 2)
-        on_surface = np.isin(keys(cell_edges), keys(around))
-        mids = mesh.cells[:, first_mid : first_mid + len(edges)].reshape(-1)[on_surface]
-        return np.unique(np.concatenate([corners, mids]))
-
-
-def _parts(cells: np.ndarray, n_nodes: int) -> np.ndarray:
-    """Connected pieces of a mesh (cells sharing a node are one piece), by first node."""
-    import scipy.sparse as sp
-    from scipy.sparse.csgraph import connected_components
-
-    rows = np.repeat(np.arange(len(cells)), cells.shape[1])
-    incidence = sp.csr_matrix((np.ones(cells.size), (cells.ravel(), rows)), shape=(n_nodes, len(cells)))
-    _, labels = connected_components(incidence @ incidence.T, directed=False)
-    # Renumber by first node, so that parts follow the node order.
-    _, first = np.unique(labels, return_index=True)
-    order = np.empty(len(first), dtype=np.int64)
-    order[np.argsort(first)] = np.arange(len(first))
-    return order[labels]

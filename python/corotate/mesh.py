@@ -251,6 +251,22 @@ class Mesh:
         _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
         return faces[np.sort(first[counts == 1])]
 
+    def connected_parts(self) -> np.ndarray:
+        """(n,) int64: the connected piece of each node (cells that share a node are one
+        piece), numbered in the order of each piece's first node."""
+        import scipy.sparse as sp
+        from scipy.sparse.csgraph import connected_components
+
+        rows = np.repeat(np.arange(self.n_cells), self.cells.shape[1])
+        incidence = sp.csr_matrix(
+            (np.ones(self.cells.size), (self.cells.ravel(), rows)), shape=(self.n_nodes, self.n_cells)
+        )
+        _, labels = connected_components(incidence @ incidence.T, directed=False)
+        _, first = np.unique(labels, return_index=True)
+        order = np.empty(len(first), dtype=np.int64)
+        order[np.argsort(first)] = np.arange(len(first))
+        return order[labels]
+
     # -- conversion -------------------------------------------------------
 
     def to_meshio(self, point_data: Mapping[str, ArrayLike] | None = None) -> Any:

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from .body import Body
+from .joined_body import JoinedBody, check_solid_bodies
 from .mesh import Mesh
 from .mesh_checks import _unchecked
 from .simulation import Simulation
@@ -29,7 +30,7 @@ if TYPE_CHECKING:
 
 
 class Scene:
-    """Bodies (``corotate.Body``, one cell type and one model for all) simulated as one.
+    """Bodies (``corotate.Body``, solids of any cell type and force model) simulated as one.
 
     bodies  the bodies, at their places in the world (their meshes' coordinates)
 
@@ -42,60 +43,33 @@ class Scene:
         sim.step(100)
         upper_positions = sim.positions[scene.nodes(1)]
 
-    Rigid objects are obstacles (``sim.add_obstacle``), moved between frames. ValueError for
-    bodies of different cell types or models, or sheets.
+    Bodies of one cell type and model are joined into one Body (one model sweeps them all);
+    bodies that differ (a co-rotated tet organ on a Neo-Hookean hex pad) into a JoinedBody,
+    each body's part computed by its own model. Rigid objects are obstacles
+    (``sim.add_obstacle``), moved between frames. ValueError for sheets.
     """
 
     def __init__(self, bodies: Sequence[Body]) -> None:
-        bodies = list(bodies)
-        if not bodies:
-            raise ValueError("a scene needs at least one body")
-        for k, body in enumerate(bodies):
-            if not isinstance(body, Body):
-                raise TypeError(f"body {k} is a {type(body).__name__}, not a corotate.Body")
+        bodies = check_solid_bodies(bodies, "a scene")
+        self._bodies = bodies
+        self._offsets = np.cumsum([0] + [b.n_nodes for b in bodies])
         first = bodies[0]
-        shared = {
-            "cell_type": lambda b: b.mesh.cell_type,
-            "model": lambda b: b.model,
-            "project_psd": lambda b: b.project_psd,
-        }
-        for k, body in enumerate(bodies[1:], start=1):
-            for name, of in shared.items():
-                if of(body) != of(first):
-                    raise ValueError(
-                        f"body {k}'s {name} is {of(body)!r}, body 0's {of(first)!r}: a scene's bodies share it"
-                    )
-        if first.thickness is not None:
-            raise ValueError("a scene's bodies are solids; sheets (triangle meshes) touch nothing yet")
-        offsets = np.cumsum([0] + [b.n_nodes for b in bodies])
-        points = np.concatenate([b.mesh.points for b in bodies])
-        cells = np.concatenate([b.mesh.cells + offsets[k] for k, b in enumerate(bodies)])
-        # Each body's regions, renumbered after the bodies before it: one material per region.
-        materials: dict[int, Any] = {}
-        regions = []
-        for body in bodies:
-            ids = np.array(sorted(body.materials))
-            own = body.regions if body.regions is not None else np.full(body.mesh.n_cells, ids[0])
-            regions.append(len(materials) + np.searchsorted(ids, own))
-            materials.update({len(materials) + i: body.materials[int(r)] for i, r in enumerate(ids)})
-        # Each body's mesh was checked on its own; joined, the bodies' nodes may coincide
-        # where they touch (a block placed on a slab), which in one mesh would read as a
-        # cell soup: the parts are separate on purpose, so the joined mesh is not re-checked.
-        mesh = _unchecked(Mesh, points, cells, first.mesh.cell_type)
-        self._offsets = offsets
-        self._body = Body(
-            mesh,
-            materials,
-            model=cast("ModelName", first.model),
-            project_psd=first.project_psd,
-            regions=np.concatenate(regions),
-            _parts_checked=True,
+        alike = all(
+            (b.mesh.cell_type, b.model, b.project_psd) == (first.mesh.cell_type, first.model, first.project_psd)
+            for b in bodies
         )
+        self._body: Body | JoinedBody = _one_body(bodies) if alike else JoinedBody(bodies)
 
     @property
-    def body(self) -> Body:
-        """The joined body: the bodies' nodes one after the other, each cell with its material."""
+    def body(self) -> Body | JoinedBody:
+        """The joined body, the bodies' nodes one after the other: a Body (one mesh, each cell
+        with its material) when the bodies share cell type and model, else a JoinedBody."""
         return self._body
+
+    @property
+    def bodies(self) -> tuple[Body, ...]:
+        """The bodies, in the order given (body k's mesh: ``scene.bodies[k].mesh``)."""
+        return self._bodies
 
     @property
     def n_bodies(self) -> int:
@@ -123,3 +97,32 @@ class Scene:
         if len(np.unique(sim.parts)) > 1 or self_contact:
             sim.set_part_contact(friction, self_contact=self_contact)
         return sim
+
+
+def _one_body(bodies: Sequence[Body]) -> Body:
+    """Bodies of one cell type and model as one Body: their meshes joined, each body's regions
+    renumbered after the bodies' before it (one material per region). The fast path: one
+    model sweeps every element (the co-rotated tets' float32 assembly included)."""
+    first = bodies[0]
+    offsets = np.cumsum([0] + [b.n_nodes for b in bodies])
+    points = np.concatenate([b.mesh.points for b in bodies])
+    cells = np.concatenate([b.mesh.cells + offsets[k] for k, b in enumerate(bodies)])
+    materials: dict[int, Any] = {}
+    regions = []
+    for body in bodies:
+        ids = np.array(sorted(body.materials))
+        own = body.regions if body.regions is not None else np.full(body.mesh.n_cells, ids[0])
+        regions.append(len(materials) + np.searchsorted(ids, own))
+        materials.update({len(materials) + i: body.materials[int(r)] for i, r in enumerate(ids)})
+    # Each body's mesh was checked on its own; joined, the bodies' nodes may coincide where
+    # they touch (a block placed on a slab), which in one mesh would read as a cell soup: the
+    # parts are separate on purpose, so the joined mesh is not re-checked.
+    mesh = _unchecked(Mesh, points, cells, first.mesh.cell_type)
+    return Body(
+        mesh,
+        materials,
+        model=cast("ModelName", first.model),
+        project_psd=first.project_psd,
+        regions=np.concatenate(regions),
+        _parts_checked=True,
+    )

@@ -13,6 +13,7 @@ from .body import Body
 from .choices import IMPLICIT_INTEGRATORS, MASS_KINDS, FailurePolicy, ImplicitIntegratorName, MassKind, check_choice
 from .contact import ContactMembers
 from .driven_body import DrivenBody
+from .joined_body import JoinedBody
 from .solvers import PCG, Direct
 
 if TYPE_CHECKING:
@@ -55,7 +56,7 @@ class Simulation(ContactMembers, DrivenBody):
 
     def __init__(
         self,
-        body: Body,
+        body: Body | JoinedBody,
         dt: float = _DEFAULTS.time_step,
         solver: PCG | Direct | None = None,
         gravity: ArrayLike = (0.0, 0.0, 0.0),
@@ -66,8 +67,8 @@ class Simulation(ContactMembers, DrivenBody):
         newton_tolerance: float = _DEFAULTS.newton_tolerance,
         on_failure: FailurePolicy = "warn",
     ) -> None:
-        if not isinstance(body, Body):
-            raise TypeError("body must be a corotate.Body")
+        if not isinstance(body, (Body, JoinedBody)):
+            raise TypeError("body must be a corotate.Body (or a Scene's JoinedBody)")
         check_choice(mass, MASS_KINDS, "mass")
         check_choice(integrator, IMPLICIT_INTEGRATORS, "integrator")
         if solver is None:
@@ -90,7 +91,7 @@ class Simulation(ContactMembers, DrivenBody):
         self._obstacles = []
         self._contact_nodes_set = False
         self._contact_surface = None
-        self._rest = body.mesh.points
+        self._rest = body._rest_points
         self.gravity = gravity
         self._set_failure_policy(on_failure)
 

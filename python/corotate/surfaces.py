@@ -14,7 +14,14 @@ from .mesh import Mesh
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-__all__ = ["boundary_surface", "boundary_triangles", "loop_subdivide", "split_at_centroids", "sphere_surface"]
+__all__ = [
+    "boundary_surface",
+    "boundary_triangles",
+    "loop_subdivide",
+    "split_at_centroids",
+    "sphere_surface",
+    "surface_nodes",
+]
 
 
 def boundary_triangles(mesh: Mesh) -> np.ndarray:
@@ -26,6 +33,31 @@ def boundary_triangles(mesh: Mesh) -> np.ndarray:
     if outer.shape[1] == 4:
         outer = np.concatenate([outer[:, [0, 1, 2]], outer[:, [0, 2, 3]]])
     return outer
+
+
+def surface_nodes(mesh: Mesh) -> np.ndarray:
+    """(s,) int64, sorted: every node on a volume mesh's surface, the boundary faces' corners
+    and, for quadratic cells, the mid-edge nodes of their edges (what touches an obstacle:
+    left out, the mid-edge nodes would pass through it)."""
+    from .mesh import _CELL_TYPES
+
+    faces = mesh.boundary_faces()
+    corners = np.unique(faces)
+    facts = _CELL_TYPES[mesh.cell_type]
+    if facts["order"] == 1:
+        return corners
+    edges, first_mid = np.asarray(facts["edges"]), int(facts["num_corners"])
+    n = mesh.n_nodes
+
+    def keys(pairs: np.ndarray) -> np.ndarray:
+        pairs = np.sort(pairs, axis=1)
+        return pairs[:, 0] * n + pairs[:, 1]
+
+    around = np.stack([faces, np.roll(faces, -1, axis=1)], axis=-1).reshape(-1, 2)  # each face's edges
+    cell_edges = mesh.cells[:, edges].reshape(-1, 2)
+    on_surface = np.isin(keys(cell_edges), keys(around))
+    mids = mesh.cells[:, first_mid : first_mid + len(edges)].reshape(-1)[on_surface]
+    return np.unique(np.concatenate([corners, mids]))
 
 
 def boundary_surface(mesh: Mesh) -> Mesh:

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "corotate/models/joined_model.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
@@ -266,4 +267,77 @@ TEST(each_cell_takes_its_regions_stiffness_and_density) {
       CHECK((Vec3(M.block(M.diagonal_block(i)).diagonal()) - expected_m.col(i)).norm() <=
             1e-12 * expected_m.col(i).norm());
   }
+}
+
+TEST(joined_model_is_its_parts_side_by_side) {
+  // A co-rotated tet beam and a Neo-Hookean hex beam joined: energy, forces (plain and
+  // linearised), every stiffness kind and the mass are each part's at its own nodes, and the
+  // joined pattern holds no block between the parts.
+  const fixtures::Mesh tets = fixtures::tet_beam(2, 1, 1), hexes = hex_beam();
+  auto a = make_model("corotational", "tetra", tets.points, tets.cells, kMaterial);
+  auto b = make_model("neohookean", "hexahedron", hexes.points, hexes.cells, Material{2e6, 0.4, 500.0});
+  const JoinedModel joined({a.get(), b.get()});
+  auto copy = joined.clone();  // a simulation steps a copy
+  const Index na = a->num_nodes(), nb = b->num_nodes();
+  CHECK(copy->num_nodes() == na + nb);
+  CHECK(copy->pattern().num_blocks() == a->pattern().num_blocks() + b->pattern().num_blocks());
+  CHECK(copy->pattern().block_index(0, na) == -1 && copy->pattern().block_index(na, 0) == -1);
+  CHECK(!copy->is_linear() && copy->symmetric_tangent());
+  Nodes x(3, na + nb), y(3, na + nb);
+  x << deformed(tets.points), deformed(hexes.points);
+  y << deformed(tets.points), deformed(hexes.points);
+  const Nodes xa = x.leftCols(na), xb = x.rightCols(nb);
+  CHECK(std::abs(copy->energy(x) - (a->energy(xa) + b->energy(xb))) <= 1e-12 * std::abs(copy->energy(x)));
+  Nodes f = forces(*copy, x);
+  CHECK((f.leftCols(na) - forces(*a, xa)).norm() <= 1e-12 * f.norm());
+  CHECK((f.rightCols(nb) - forces(*b, xb)).norm() <= 1e-12 * f.norm());
+  for (const StiffnessKind kind : {StiffnessKind::Model, StiffnessKind::Tangent}) {
+    const Vec d = fixtures::random_matrix<Vec>(3 * (na + nb), 1);
+    const Vec Kd = stiffness_times(*copy, x, kind, d);
+    CHECK((Kd.head(3 * na) - stiffness_times(*a, xa, kind, d.head(3 * na))).norm() <= 1e-12 * Kd.norm());
+    CHECK((Kd.tail(3 * nb) - stiffness_times(*b, xb, kind, d.tail(3 * nb))).norm() <= 1e-12 * Kd.norm());
+  }
+  // The implicit step's request: linearised forces at y with the Model stiffness, scaled.
+  Request what;
+  what.forces = true;
+  what.forces_at = &y;
+  what.stiffness = StiffnessKind::Model;
+  what.stiffness_scale = 0.25;
+  what.lower_blocks = false;
+  what.count_inverted = true;
+  BlockSparseMatrix K = copy->pattern();
+  K.set_zero();
+  Nodes g = Nodes::Zero(3, na + nb);
+  Results out;
+  out.forces = &g;
+  out.stiffness = &K;
+  copy->evaluate(x, what, out);
+  for (const auto& [part, offset] : {std::pair<ForceModel*, Index>{a.get(), 0}, {b.get(), na}}) {
+    const Index n = part->num_nodes();
+    const Nodes xp = x.middleCols(offset, n), yp = y.middleCols(offset, n);
+    Request own = what;
+    own.forces_at = &yp;
+    own.lower_blocks = true;
+    BlockSparseMatrix Kp = part->pattern();
+    Kp.set_zero();
+    Nodes gp = Nodes::Zero(3, n);
+    Results part_out;
+    part_out.forces = &gp;
+    part_out.stiffness = &Kp;
+    part->evaluate(xp, own, part_out);
+    CHECK((g.middleCols(offset, n) - gp).norm() <= 1e-12 * gp.norm());
+    for (Index i = 0; i < n; ++i)
+      for (int e = Kp.row_start()[i]; e < Kp.row_start()[i + 1]; ++e)
+        CHECK((K.block(K.block_index(offset + i, offset + Kp.columns()[e])) - Kp.block(e)).norm() <=
+              1e-12 * Kp.block(e).norm() + 1e-300);
+  }
+  CHECK(out.inverted == 0);
+  const BlockSparseMatrix M = copy->mass_matrix(false), Ma = a->mass_matrix(false), Mb = b->mass_matrix(false);
+  const Vec ones = Vec::Ones(3 * (na + nb));
+  Vec Mx(ones.size()), Max(3 * na), Mbx(3 * nb);
+  M.multiply(ones, Mx);
+  Ma.multiply(ones.head(3 * na), Max);
+  Mb.multiply(ones.tail(3 * nb), Mbx);
+  CHECK((Mx.head(3 * na) - Max).norm() <= 1e-14 * Max.norm() && (Mx.tail(3 * nb) - Mbx).norm() <= 1e-14 * Mbx.norm());
+  CHECK_THROWS(JoinedModel(std::vector<const ForceModel*>{}), InvalidInput);
 }
