@@ -9,9 +9,16 @@
 // The levels are x86-64-v4 (AVX-512 F/BW/CD/DQ/VL) and v3 (AVX2, FMA, BMI), which the
 // loader tests by feature bits (GCC 12 and later); a CPU model name ("arch=haswell") would be
 // tested by model and fails in virtual machines that report a generic "Xeon Processor".
+// COROTATE_CPU_CLONES_UP_TO_V3 (a benchmark build, CMake's COROTATE_CLONES_UP_TO_V3) leaves
+// the AVX-512 clone out: on an AVX-512 machine the loader then picks the AVX2 one, which is
+// what the same build runs on an AVX2 machine (Zen 3, say).
 #if defined(__x86_64__) && defined(__linux__) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12 && \
     !defined(COROTATE_NO_CPU_CLONES)
+#if defined(COROTATE_CPU_CLONES_UP_TO_V3)
+#define COROTATE_CPU_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
 #define COROTATE_CPU_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#endif
 #define COROTATE_HAVE_CPU_CLONES 1
 #else
 #define COROTATE_CPU_CLONES
