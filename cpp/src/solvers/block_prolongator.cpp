@@ -50,7 +50,27 @@ BlockProlongator::BlockProlongator(const ScalarMatrix& P, const std::vector<int>
       }
     node_start_.push_back(static_cast<int>(block_aggregate_.size()));
   }
+  index_by_aggregate();
+}
+
+BlockProlongator::BlockProlongator(const NodeAggregateBlocks& P, const std::vector<int>& coarse_start)
+    : coarse_start_(coarse_start), node_start_(P.start), block_aggregate_(P.aggregate) {
+  if (coarse_start.empty() || coarse_start.front() != 0 || P.start.empty() || P.start.back() != int(P.blocks.size()))
+    throw InvalidInput("BlockProlongator: the blocks or the aggregates' coarse DOFs are malformed");
+  values_.assign(kBlockValues * P.blocks.size(), 0.0f);
+  for (size_t k = 0; k < P.blocks.size(); ++k) {
+    const int a = P.aggregate[k];
+    if (a < 0 || a >= num_aggregates()) throw InvalidInput("BlockProlongator: a block's aggregate is out of range");
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < coarse_start[a + 1] - coarse_start[a]; ++c)
+        values_[kBlockValues * k + kRow * r + c] = static_cast<float>(P.blocks[k](r, c));
+  }
+  index_by_aggregate();
+}
+
+void BlockProlongator::index_by_aggregate() {
   // Per aggregate, its blocks in node order (a counting sort of the blocks by aggregate).
+  const Index n = num_nodes(), m = num_aggregates();
   aggregate_start_.assign(m + 1, 0);
   for (int a : block_aggregate_) ++aggregate_start_[a + 1];
   for (Index a = 0; a < m; ++a) aggregate_start_[a + 1] += aggregate_start_[a];

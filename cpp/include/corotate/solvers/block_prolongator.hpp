@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "corotate/common.hpp"
+#include "corotate/solvers/smoothed_aggregation.hpp"
 
 namespace corotate {
 
@@ -28,6 +29,9 @@ class BlockProlongator {
   // (num_aggregates + 1 entries, at most 6 DOFs each). Every entry of P must lie in a
   // column of some aggregate (InvalidInput otherwise).
   BlockProlongator(const ScalarMatrix& P, const std::vector<int>& coarse_start);
+  // The same from P's blocks (smoothed_aggregation.hpp); columns beyond an aggregate's coarse
+  // DOFs are left out.
+  BlockProlongator(const NodeAggregateBlocks& P, const std::vector<int>& coarse_start);
 
   Index num_nodes() const { return static_cast<Index>(node_start_.size()) - 1; }
   Index num_aggregates() const { return static_cast<Index>(coarse_start_.size()) - 1; }
@@ -47,6 +51,7 @@ class BlockProlongator {
   void restrict_to(const Vec& fine, Vec& coarse);
 
  private:
+  void index_by_aggregate();  // the aggregate lists below, from node_start_ and block_aggregate_
   std::vector<int> coarse_start_;     // per aggregate, + 1
   std::vector<int> node_start_;       // first block of each node, + 1
   std::vector<int> block_aggregate_;  // aggregate of each block
