@@ -32,3 +32,12 @@
 #else
 #define COROTATE_CLONE_INLINE inline
 #endif
+
+namespace corotate {
+
+// Whether the hot loops run their AVX-512 clones on this CPU (false in a build without clones
+// unless compiled for AVX-512, and in a COROTATE_CPU_CLONES_UP_TO_V3 build): code whose best
+// vector width differs between AVX-512 and AVX2 (simd8.hpp's Double8 and Double4) picks by it.
+bool cpu_runs_avx512_clones();
+
+}  // namespace corotate

@@ -54,6 +54,26 @@ COROTATE_CLONE_INLINE double sum8(Double8 v) {
   return (h[0] + h[2]) + (h[1] + h[3]);
 }
 
+// Four doubles: one AVX2 register. Eight-double vectors are right for AVX-512 only: in an AVX2
+// clone GCC keeps them in memory and moves each half through general registers (the AVX2
+// code path of CG's vector operations and of the supernodal factorization ran several times
+// slower than with four-double vectors); code that runs on both picks by
+// cpu_runs_avx512_clones() (cpu_clones.hpp) and is written over the vector type, with these.
+using Double4 = double __attribute__((vector_size(32)));
+
+template <class V>
+COROTATE_CLONE_INLINE V load(const double* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+template <class V>
+COROTATE_CLONE_INLINE void store(double* p, V v) {
+  std::memcpy(p, &v, sizeof v);
+}
+COROTATE_CLONE_INLINE double sum(Double8 v) { return sum8(v); }
+COROTATE_CLONE_INLINE double sum(Double4 v) { return (v[0] + v[2]) + (v[1] + v[3]); }
+
 }  // namespace corotate::simd
 
 #if !defined(__clang__)

@@ -17,8 +17,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
+#include "corotate/cpu_clones.hpp"
 #include "corotate/simd8.hpp"
 
 namespace corotate {
@@ -36,26 +38,44 @@ constexpr int kChunkRows = 64;  // rows per pass of the small triangular solves 
 // the largest panel), one set per thread.
 thread_local std::vector<double> packed_a, packed_w;
 
-// C (rows x cols, leading dimension ldc) -= the register tile's sums; rows <= kMr, cols <= kNr.
-COROTATE_CLONE_INLINE void tile(const double* a, const double* w, int kc, double* C, int ldc, int rows, int cols) {
-  using simd::Double8;
-  Double8 acc[2][kNr] = {};
+// C (rows x cols, leading dimension ldc) -= the sums of a register tile of kMr rows and
+// Cols of w's kNr columns (w read with stride kNr), in vectors V; rows <= kMr, cols <= Cols.
+template <class V, int Cols>
+COROTATE_CLONE_INLINE void tile_columns(const double* a, const double* w, int kc, double* C, int ldc, int rows,
+                                        int cols) {
+  constexpr int kLanes = sizeof(V) / sizeof(double), kParts = kMr / kLanes;
+  V acc[kParts][Cols] = {};
   for (int p = 0; p < kc; ++p) {
-    const Double8 a0 = simd::load8(a + kMr * p), a1 = simd::load8(a + kMr * p + 8);
+    V ap[kParts];
+    for (int q = 0; q < kParts; ++q) ap[q] = simd::load<V>(a + kMr * p + kLanes * q);
     const double* wp = w + kNr * p;
-    for (int c = 0; c < kNr; ++c) {
-      acc[0][c] += a0 * wp[c];
-      acc[1][c] += a1 * wp[c];
+    for (int c = 0; c < Cols; ++c) {
+      const double wc = wp[c];
+      for (int q = 0; q < kParts; ++q) acc[q][c] += ap[q] * wc;
     }
   }
   for (int c = 0; c < cols; ++c) {
     double* column = C + static_cast<size_t>(c) * ldc;
     if (rows == kMr) {
-      simd::store8(column, simd::load8(column) - acc[0][c]);
-      simd::store8(column + 8, simd::load8(column + 8) - acc[1][c]);
+      for (int q = 0; q < kParts; ++q)
+        simd::store<V>(column + kLanes * q, simd::load<V>(column + kLanes * q) - acc[q][c]);
     } else {
-      for (int r = 0; r < rows; ++r) column[r] -= acc[r / 8][c][r % 8];
+      for (int r = 0; r < rows; ++r) column[r] -= acc[r / kLanes][c][r % kLanes];
     }
+  }
+}
+
+// C (rows x cols) -= the register tile's sums; rows <= kMr, cols <= kNr.
+COROTATE_CLONE_INLINE void tile(const double* a, const double* w, int kc, double* C, int ldc, int rows, int cols,
+                                bool wide) {
+  constexpr int kHalf = kNr / 2;
+  if (wide) {
+    tile_columns<simd::Double8, kNr>(a, w, kc, C, ldc, rows, cols);
+  } else {
+    tile_columns<simd::Double4, kHalf>(a, w, kc, C, ldc, rows, std::min(cols, kHalf));
+    if (cols > kHalf)
+      tile_columns<simd::Double4, kHalf>(a, w + kHalf, kc, C + static_cast<size_t>(kHalf) * ldc, ldc, rows,
+                                         cols - kHalf);
   }
 }
 
@@ -82,6 +102,10 @@ size_t rounded(int rows, int width) { return static_cast<size_t>((rows + width -
 COROTATE_CLONE_INLINE void subtract_product(const double* A, int lda, const double* W, int ldw, int rows, int cols,
                                             int depth, double* C, int ldc, bool lower) {
   if (rows <= 0 || cols <= 0 || depth <= 0) return;
+  // The 16 x 4 tile's eight accumulators fit in AVX-512's 32 registers as eight-double
+  // vectors; with AVX2's 16 the tile runs as two 16 x 2 halves of four-double vectors (A's
+  // packed panel, in L1, read twice).
+  const bool wide = cpu_runs_avx512_clones();
   for (int p0 = 0; p0 < depth; p0 += kKc) {
     const int kc = std::min(kKc, depth - p0);
     const size_t w_size = rounded(cols, kNr) * kc, a_size = rounded(std::min(rows, kMc), kMr) * kc;
@@ -98,7 +122,7 @@ COROTATE_CLONE_INLINE void subtract_product(const double* A, int lda, const doub
         for (int i = 0; i < mc; i += kMr) {
           if (lower && i0 + i + kMr <= j) continue;  // wholly above the diagonal
           tile(packed_a.data() + static_cast<size_t>(i / kMr) * kc * kMr, w, kc,
-               C + static_cast<size_t>(j) * ldc + i0 + i, ldc, std::min(kMr, mc - i), nc);
+               C + static_cast<size_t>(j) * ldc + i0 + i, ldc, std::min(kMr, mc - i), nc, wide);
         }
       }
     }

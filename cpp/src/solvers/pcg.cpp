@@ -13,44 +13,52 @@ namespace corotate {
 
 namespace {
 
-// CG's vector operations as loops over eight doubles, compiled per instruction set
+// CG's vector operations as loops over vectors of doubles, compiled per instruction set
 // (cpu_clones.hpp): Eigen's own run two doubles wide in a build for the x86-64 baseline, and on
 // a small body (the Table 1 cage, 900 unknowns) they were 6 % of a step. Sums run in lanes,
-// added at the end (another order than Eigen's: the same to round-off).
+// added at the end (another order than Eigen's: the same to round-off). Eight-double vectors
+// on the AVX-512 path, four-double ones elsewhere (simd8.hpp says why).
 #if COROTATE_HAVE_FLOAT8
+using simd::Double4;
 using simd::Double8;
-using simd::load8;
-using simd::store8;
-using simd::sum8;
+using simd::load;
+using simd::store;
+
+template <class V>
+constexpr Index kLanes = sizeof(V) / sizeof(double);
 
 // a . b
-COROTATE_CPU_CLONES double dot(const Vec& a, const Vec& b) {
+template <class V>
+COROTATE_CLONE_INLINE double dot_with(const Vec& a, const Vec& b) {
+  constexpr Index w = kLanes<V>;
   const Index n = a.size();
   const double *pa = a.data(), *pb = b.data();
-  Double8 s0 = {}, s1 = {};
+  V s0 = {}, s1 = {};
   Index i = 0;
-  for (; i + 16 <= n; i += 16) {
-    s0 += load8(pa + i) * load8(pb + i);
-    s1 += load8(pa + i + 8) * load8(pb + i + 8);
+  for (; i + 2 * w <= n; i += 2 * w) {
+    s0 += load<V>(pa + i) * load<V>(pb + i);
+    s1 += load<V>(pa + i + w) * load<V>(pb + i + w);
   }
-  double s = sum8(s0 + s1);
+  double s = simd::sum(s0 + s1);
   for (; i < n; ++i) s += pa[i] * pb[i];
   return s;
 }
 
 // r = b - r (r holding A x); returns r . r.
-COROTATE_CPU_CLONES double residual(const Vec& b, Vec& r) {
+template <class V>
+COROTATE_CLONE_INLINE double residual_with(const Vec& b, Vec& r) {
+  constexpr Index w = kLanes<V>;
   const Index n = b.size();
   const double* pb = b.data();
   double* pr = r.data();
-  Double8 s8 = {};
+  V s8 = {};
   Index i = 0;
-  for (; i + 8 <= n; i += 8) {
-    const Double8 v = load8(pb + i) - load8(pr + i);
-    store8(pr + i, v);
+  for (; i + w <= n; i += w) {
+    const V v = load<V>(pb + i) - load<V>(pr + i);
+    store<V>(pr + i, v);
     s8 += v * v;
   }
-  double s = sum8(s8);
+  double s = simd::sum(s8);
   for (; i < n; ++i) {
     pr[i] = pb[i] - pr[i];
     s += pr[i] * pr[i];
@@ -59,19 +67,21 @@ COROTATE_CPU_CLONES double residual(const Vec& b, Vec& r) {
 }
 
 // x += alpha p, r -= alpha q; returns r . r.
-COROTATE_CPU_CLONES double step(double alpha, const Vec& p, const Vec& q, Vec& x, Vec& r) {
+template <class V>
+COROTATE_CLONE_INLINE double step_with(double alpha, const Vec& p, const Vec& q, Vec& x, Vec& r) {
+  constexpr Index w = kLanes<V>;
   const Index n = p.size();
   const double *pp = p.data(), *pq = q.data();
   double *px = x.data(), *pr = r.data();
-  Double8 s8 = {};
+  V s8 = {};
   Index i = 0;
-  for (; i + 8 <= n; i += 8) {
-    store8(px + i, load8(px + i) + alpha * load8(pp + i));
-    const Double8 v = load8(pr + i) - alpha * load8(pq + i);
-    store8(pr + i, v);
+  for (; i + w <= n; i += w) {
+    store<V>(px + i, load<V>(px + i) + alpha * load<V>(pp + i));
+    const V v = load<V>(pr + i) - alpha * load<V>(pq + i);
+    store<V>(pr + i, v);
     s8 += v * v;
   }
-  double s = sum8(s8);
+  double s = simd::sum(s8);
   for (; i < n; ++i) {
     px[i] += alpha * pp[i];
     pr[i] -= alpha * pq[i];
@@ -81,13 +91,28 @@ COROTATE_CPU_CLONES double step(double alpha, const Vec& p, const Vec& q, Vec& x
 }
 
 // p = z + beta p
-COROTATE_CPU_CLONES void next_direction(const Vec& z, double beta, Vec& p) {
+template <class V>
+COROTATE_CLONE_INLINE void next_direction_with(const Vec& z, double beta, Vec& p) {
+  constexpr Index w = kLanes<V>;
   const Index n = z.size();
   const double* pz = z.data();
   double* pp = p.data();
   Index i = 0;
-  for (; i + 8 <= n; i += 8) store8(pp + i, load8(pz + i) + beta * load8(pp + i));
+  for (; i + w <= n; i += w) store<V>(pp + i, load<V>(pz + i) + beta * load<V>(pp + i));
   for (; i < n; ++i) pp[i] = pz[i] + beta * pp[i];
+}
+
+COROTATE_CPU_CLONES double dot(const Vec& a, const Vec& b) {
+  return cpu_runs_avx512_clones() ? dot_with<Double8>(a, b) : dot_with<Double4>(a, b);
+}
+COROTATE_CPU_CLONES double residual(const Vec& b, Vec& r) {
+  return cpu_runs_avx512_clones() ? residual_with<Double8>(b, r) : residual_with<Double4>(b, r);
+}
+COROTATE_CPU_CLONES double step(double alpha, const Vec& p, const Vec& q, Vec& x, Vec& r) {
+  return cpu_runs_avx512_clones() ? step_with<Double8>(alpha, p, q, x, r) : step_with<Double4>(alpha, p, q, x, r);
+}
+COROTATE_CPU_CLONES void next_direction(const Vec& z, double beta, Vec& p) {
+  cpu_runs_avx512_clones() ? next_direction_with<Double8>(z, beta, p) : next_direction_with<Double4>(z, beta, p);
 }
 #else
 double dot(const Vec& a, const Vec& b) { return a.dot(b); }
