@@ -3,10 +3,13 @@ Pa, corotate.PCG(), dt = 0.01 s, clamped at x = 0) with the default thread setti
 thread and on two, while other processes keep the cores busy, as a renderer, a haptic loop or
 other jobs do on a user's machine.
 
-    python bench/contention.py [--busy 2] [--cells 40,8,8 80,16,16] [--steps 20] [--repeats 5]
+    python bench/contention.py [--busy 2] [--viewer] [--cells 40,8,8 80,16,16] [--steps 20] [--repeats 5]
 
 --busy N starts N processes that spin on the CPU (not pinned: the scheduler places them, as
-it places other jobs) for the whole run; --busy 0 measures the idle machine. The settings run
+it places other jobs) for the whole run; --busy 0 measures the idle machine. --viewer also
+runs `corotate view` (the live viewer: a body stepped in real time and drawn every frame;
+needs the [view] extra and a display: xvfb-run -a python bench/contention.py --viewer, where
+the drawing is done by the CPU) for the whole run. The settings run
 in turns (each with its own simulation, after 10 settling steps); the medians of --repeats
 runs of --steps steps are printed with each setting's ratio to one thread. The default is
 the thread count corotate starts with (1 unless COROTATE_THREADS says otherwise; a row of its
@@ -19,6 +22,8 @@ from __future__ import annotations
 import argparse
 import multiprocessing
 import os
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -70,6 +75,7 @@ def main() -> None:
     parser.add_argument(
         "--cells", nargs="+", default=["40,8,8", "80,16,16"], help="beam cells, e.g. 40,8,8 (15,360 tets)"
     )
+    parser.add_argument("--viewer", action="store_true", help="run the live viewer too (needs a display)")
     parser.add_argument("--steps", type=int, default=20, help="steps per timed run (default 20)")
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per setting (default 5)")
     args = parser.parse_args()
@@ -95,9 +101,22 @@ def main() -> None:
     busy = [multiprocessing.Process(target=spin, args=(stop,), daemon=True) for _ in range(args.busy)]
     for process in busy:
         process.start()
+    viewer = None
+    if args.viewer:
+        viewer = subprocess.Popen(
+            [sys.executable, "-m", "corotate", "view", "--frames", "1000000"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
     try:
-        time.sleep(1.0 if busy else 0.0)
-        print(f"{args.busy} busy processes on {os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f}")
+        time.sleep(5.0 if viewer else 1.0 if busy else 0.0)  # (the viewer's window and first frames)
+        if viewer and viewer.poll() is not None:
+            sys.exit(f"contention.py: the viewer stopped: {viewer.communicate()[1].strip()[-500:]}")
+        print(
+            f"{args.busy} busy processes{' and the live viewer' if viewer else ''} on {os.cpu_count()} cores;"
+            f" load average {os.getloadavg()[0]:.1f}"
+        )
         for c in cells:
             measure(c, settings, args.steps, args.repeats)
         print(f"load average at the end {os.getloadavg()[0]:.1f}")
@@ -105,6 +124,9 @@ def main() -> None:
         stop.set()
         for process in busy:
             process.join()
+        if viewer:
+            viewer.terminate()
+            viewer.wait()
         cr.set_threads(default)
 
 
