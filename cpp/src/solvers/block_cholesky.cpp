@@ -1,7 +1,6 @@
 #include "corotate/solvers/block_cholesky.hpp"
 
 #include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cstring>
 
@@ -50,53 +49,46 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_b
   std::vector<int> position(n);
   for (Index k = 0; k < n; ++k) position[order[k]] = static_cast<int>(k);
 
-  // 2. The permuted scalar matrix, factorized in natural order.
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> permuted(3 * n, 3 * n);
-  {
-    std::vector<Eigen::Triplet<double, int>> t;
-    t.reserve(9 * cols.size());
-    for (Index i = 0; i < n; ++i)
-      for (int k = start[i]; k < start[i + 1]; ++k) {
-        const auto block = A.block(k);
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) t.emplace_back(3 * position[i] + r, 3 * position[cols[k]] + c, block(r, c));
+  // 2. The factor's structure from the pattern alone (the block version of a symbolic
+  // Cholesky): the elimination tree by Liu's algorithm, then each row k of L as the nodes
+  // met walking up the tree from every A(k, j), j < k, to k. Rows come in ascending order, so
+  // each column's list is sorted.
+  std::vector<int> parent(n, -1), ancestor(n, -1), mark(n, -1), count(n, 0);
+  const auto lower_neighbours = [&](Index k, auto&& visit) {
+    const int node = order[k];
+    for (int e = start[node]; e < start[node + 1]; ++e)
+      if (position[cols[e]] < k) visit(position[cols[e]]);
+  };
+  for (Index k = 0; k < n; ++k)
+    lower_neighbours(k, [&](int j) {
+      int r = j;
+      while (ancestor[r] != -1 && ancestor[r] != k) {
+        const int next = ancestor[r];
+        ancestor[r] = static_cast<int>(k);
+        r = next;
       }
-    permuted.setFromTriplets(t.begin(), t.end());
-  }
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double, Eigen::ColMajor, int>, Eigen::Lower, Eigen::NaturalOrdering<int>>
-      llt(permuted);
-  if (llt.info() != Eigen::Success)
-    throw NotPositiveDefinite("Cholesky factorization failed: the matrix is not positive definite");
-  const auto& L = llt.matrixL().nestedExpression();  // CSC, lower triangular
-
-  // 3. Repack as 3x3 blocks. Column k's three scalar columns share their block rows.
+      if (ancestor[r] == -1) ancestor[r] = parent[r] = static_cast<int>(k);
+    });
+  const auto row_of_L = [&](Index k, auto&& visit) {  // the columns r < k with L(k, r) != 0
+    mark[k] = static_cast<int>(k);
+    lower_neighbours(k, [&](int j) {
+      for (int r = j; mark[r] != k; r = parent[r]) {
+        mark[r] = static_cast<int>(k);
+        visit(r);
+      }
+    });
+  };
+  for (Index k = 0; k < n; ++k) row_of_L(k, [&](int r) { ++count[r]; });
+  column_start_.assign(n + 1, 0);
+  for (Index k = 0; k < n; ++k) column_start_[k + 1] = column_start_[k] + count[k];
+  rows_.assign(column_start_[n], 0);
+  std::fill(mark.begin(), mark.end(), -1);
+  std::vector<int> next(column_start_.begin(), column_start_.end() - 1);
+  for (Index k = 0; k < n; ++k) row_of_L(k, [&](int r) { rows_[next[r]++] = static_cast<int>(k); });
   order_.swap(order);
-  column_start_.assign(1, 0);
-  rows_.clear();
-  factor_.clear();
+  factor_.assign(rows_.size(), Mat3::Zero());
   inverse_diagonal_.assign(n, Mat3::Zero());
-  std::vector<int> slot(n, -1);  // block row -> index in this column's list
-  for (Index k = 0; k < n; ++k) {
-    const int first = static_cast<int>(rows_.size());
-    Mat3 diagonal = Mat3::Zero();
-    for (int c = 0; c < 3; ++c)
-      for (Eigen::SparseMatrix<double, Eigen::ColMajor, int>::InnerIterator it(L, 3 * k + c); it; ++it) {
-        const int row_block = it.row() / 3, r = it.row() % 3;
-        if (row_block == k) {
-          diagonal(r, c) = it.value();
-          continue;
-        }
-        if (slot[row_block] < 0) {
-          slot[row_block] = static_cast<int>(rows_.size());
-          rows_.push_back(row_block);
-          factor_.push_back(Mat3::Zero());
-        }
-        factor_[slot[row_block]](r, c) = it.value();
-      }
-    for (size_t b = first; b < rows_.size(); ++b) slot[rows_[b]] = -1;
-    column_start_.push_back(static_cast<int>(rows_.size()));
-    inverse_diagonal_[k] = diagonal.triangularView<Eigen::Lower>().solve(Mat3::Identity());
-  }
+
   // A factor that fits in a core's cache is arranged for latency (a larger one would then
   // no longer fit, or lose the locality of AMD's postorder).
   arranged_ = 9 * rows_.size() * sizeof(float) <= latency_bound_bytes;
@@ -104,12 +96,13 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_b
   index_by_rows();
   position_.resize(n);
   for (Index k = 0; k < n; ++k) position_[order_[k]] = static_cast<int>(k);
+  work_.resize(3 * n);
+  work_single_.assign(4 * n, 0.0f);
+  // 3. The numbers (the same left-looking sweep a refactorization runs; empty on failure).
+  refactorize_numerically(A);
   pattern_start_ = start;
   pattern_columns_ = cols;
   latency_bound_bytes_ = latency_bound_bytes;
-  pack_single();
-  work_.resize(3 * n);
-  work_single_.assign(4 * n, 0.0f);
 }
 
 bool BlockCholesky::same_pattern(const BlockSparseMatrix& A, size_t latency_bound_bytes) const {
