@@ -86,8 +86,6 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_b
   std::vector<int> next(column_start_.begin(), column_start_.end() - 1);
   for (Index k = 0; k < n; ++k) row_of_L(k, [&](int r) { rows_[next[r]++] = static_cast<int>(k); });
   order_.swap(order);
-  factor_.assign(rows_.size(), Mat3::Zero());
-  inverse_diagonal_.assign(n, Mat3::Zero());
 
   // A factor that fits in a core's cache is arranged for latency (a larger one would then
   // no longer fit, or lose the locality of AMD's postorder).
@@ -118,7 +116,8 @@ void BlockCholesky::refactorize_numerically(const BlockSparseMatrix& A) {
   const Index n = static_cast<Index>(order_.size());
   const auto& start = A.row_start();
   const auto& cols = A.columns();
-  factor_.resize(rows_.size());
+  factor_.resize(rows_.size());  // (every block and diagonal is written below)
+  inverse_diagonal_.resize(n);
   column_work_.resize(n);
   for (Index k = 0; k < n; ++k) {
     for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) column_work_[rows_[p]].setZero();
@@ -211,22 +210,16 @@ void BlockCholesky::arrange_for_latency() {
   for (Index k = 0; k < n; ++k) by_level[k] = static_cast<int>(k);
   std::stable_sort(by_level.begin(), by_level.end(), [&](int a, int b) { return level[a] < level[b]; });
   for (Index k = 0; k < n; ++k) position[by_level[k]] = static_cast<int>(k);
+  // (Only the structure moves: the numbers are computed afterwards, in the new order.)
   std::vector<int> order(n), column_start(1, 0), rows;
-  std::vector<Mat3> factor, inverse_diagonal(n);
   rows.reserve(rows_.size());
-  factor.reserve(factor_.size());
   for (Index m = 0; m < n; ++m) {
     const int k = by_level[m];
     order[m] = order_[k];
-    inverse_diagonal[m] = inverse_diagonal_[k];
-    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) {
-      rows.push_back(position[rows_[p]]);
-      factor.push_back(factor_[p]);
-    }
+    for (int p = column_start_[k]; p < column_start_[k + 1]; ++p) rows.push_back(position[rows_[p]]);
     column_start.push_back(static_cast<int>(rows.size()));
   }
-  order_.swap(order), column_start_.swap(column_start), rows_.swap(rows), factor_.swap(factor);
-  inverse_diagonal_.swap(inverse_diagonal);
+  order_.swap(order), column_start_.swap(column_start), rows_.swap(rows);
 }
 
 void BlockCholesky::solve(const Vec& b, Vec& x, const Mat3* turn) {

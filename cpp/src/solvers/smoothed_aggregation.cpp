@@ -135,6 +135,8 @@ Eigen::SparseMatrix<double, Eigen::ColMajor, int> galerkin_product(const BlockSp
       for (int p = c_start[a]; p < c_start[a + 1]; ++p)
         if (c_column[p] > a) lower_block[next[c_column[p]]++] = p;
   }
+  std::vector<int> block_row(c_column.size());  // the aggregate whose row holds each block
+  for (int a = 0; a < m; ++a) std::fill(block_row.begin() + c_start[a], block_row.begin() + c_start[a + 1], a);
   const auto rank = [&](int a) { return coarse_start[a + 1] - coarse_start[a]; };
   const int size = coarse_start[m];
   std::vector<int> outer(1, 0), inner;
@@ -142,8 +144,7 @@ Eigen::SparseMatrix<double, Eigen::ColMajor, int> galerkin_product(const BlockSp
   for (int a = 0; a < m; ++a) {
     for (int r = 0; r < rank(a); ++r) {
       for (int q = lower_start[a]; q < lower_start[a + 1]; ++q) {
-        const int p = lower_block[q];
-        const int b = static_cast<int>(std::upper_bound(c_start.begin(), c_start.end(), p) - c_start.begin()) - 1;
+        const int p = lower_block[q], b = block_row[p];
         for (int c = 0; c < rank(b); ++c) {
           inner.push_back(coarse_start[b] + c);
           values.push_back(c_blocks[p](c, r));

@@ -84,7 +84,6 @@ class TwoLevelPreconditioner final : public Preconditioner {
   void restore_state() override;
 
  private:
-  using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
   void setup(const BlockSparseMatrix& A0);
   void turn(Index num_nodes);  // the coarse level to the pending positions
   // The coarse factor to the current diagonal terms (refactorized when they changed enough).
