@@ -4,10 +4,9 @@
 // together; the factor's block structure comes from the pattern alone (elimination tree,
 // row subtrees), and a left-looking sweep over 3x3 blocks computes it in double precision.
 // It is kept as 3x3 blocks in single precision (the off-diagonal blocks) with inverted
-// diagonal blocks in double (Eigen's scalar SimplicialLLT and a repacking took twice the
-// time). A solve reads 9 floats and one index per block instead of 9 doubles and 9
-// indices: on large factors the triangular solves are memory bound, so this
-// is what makes a reused factorization cheap enough to precondition every step. Single
+// diagonal blocks in double. A solve reads 9 floats and one index per block instead of 9
+// doubles and 9 indices: on large factors the triangular solves are memory bound, so this is
+// what makes a reused factorization cheap enough to precondition every step. Single
 // precision is ample for a preconditioner: CG still converges to the tolerance it is given.
 // Small factors, which fit in cache, are bound by the latency of dependent operations instead
 // of bytes: they are arranged for it (arrange_for_latency: columns level by level of the
@@ -28,10 +27,11 @@ class BlockCholesky {
   static constexpr size_t kLatencyBoundBytes = 256 * 1024;
   // Factorizes A (symmetric positive definite); throws NotPositiveDefinite otherwise (and is
   // then empty). latency_bound_bytes: the largest factor arranged for latency (a test sets it
-  // to reach both arrangements). 0.5 ms for a 720-tet body; a matrix of the same pattern as
-  // the last one factorized keeps the ordering and the factor's structure, which depend on
-  // the pattern alone, and computes the blocks only (refactorize_numerically): 0.22 ms. A
-  // preconditioner that refreshes its factor as contacts come and go pays that each time.
+  // to reach both arrangements). A matrix of the same pattern as the last one factorized
+  // keeps the ordering and the factor's structure, which depend on the pattern alone, and
+  // computes the blocks only (refactorize_numerically), in about half the time (timings:
+  // docs/notes/performance.md). A preconditioner that refreshes its factor as contacts come
+  // and go pays that each time.
   void factorize(const BlockSparseMatrix& A, size_t latency_bound_bytes = kLatencyBoundBytes);
   bool empty() const { return order_.empty(); }
   // x = A^-1 b (approximately: single-precision factor). x and b: num_dofs. With `turn`
