@@ -94,17 +94,20 @@ void bind_contact(py::module_& m) {
           "Spread point forces (m, 3) at points (m, 3) (own frame) onto the vertices (n, 3) by barycentric weights.");
 
   py::class_<ContactSettings>(m, "ContactSettings")
-      .def(py::init([](double stiffness_scale, double friction_velocity) {
+      .def(py::init([](double stiffness_scale, double friction_velocity, bool edge_contact) {
              ContactSettings s;
              s.stiffness_scale = stiffness_scale;
              s.friction_velocity = friction_velocity;
+             s.edge_contact = edge_contact;
              s.validate();
              return s;
            }),
            py::arg("stiffness_scale") = ContactSettings{}.stiffness_scale,
-           py::arg("friction_velocity") = ContactSettings{}.friction_velocity)
+           py::arg("friction_velocity") = ContactSettings{}.friction_velocity,
+           py::arg("edge_contact") = ContactSettings{}.edge_contact)
       .def_readonly("stiffness_scale", &ContactSettings::stiffness_scale)
-      .def_readonly("friction_velocity", &ContactSettings::friction_velocity);
+      .def_readonly("friction_velocity", &ContactSettings::friction_velocity)
+      .def_readonly("edge_contact", &ContactSettings::edge_contact);
 
   auto sim = py::reinterpret_borrow<py::class_<Simulation>>(m.attr("Simulation"));
   sim.def("add_obstacle", &Simulation::add_obstacle, py::arg("obstacle"), py::arg("friction") = 0.0)
@@ -152,6 +155,7 @@ void bind_contact(py::module_& m) {
             const Index m = static_cast<Index>(cs.size());
             Eigen::Matrix<Index, Eigen::Dynamic, 1> nodes(m);
             Eigen::VectorXi obstacles(m), parts(m);
+            Eigen::Matrix<bool, Eigen::Dynamic, 1> edges(m);
             Eigen::Matrix<Index, Eigen::Dynamic, 3, Eigen::RowMajor> partners(m, 3);
             Eigen::MatrixXd normals(m, 3), points(m, 3), forces(m, 3), weights(m, 3);
             Eigen::VectorXd multipliers(m), friction_limits(m);
@@ -161,7 +165,10 @@ void bind_contact(py::module_& m) {
               obstacles[k] = cs[k].obstacle >= 0 ? cs[k].obstacle : -1;
               parts[k] = cs[k].obstacle < 0 ? -1 - cs[k].obstacle : -1;
               for (int j = 0; j < 3; ++j) partners(k, j) = cs[k].partners[j];
-              weights.row(k) = cs[k].weights.transpose();
+              edges[k] = cs[k].edge();
+              // An edge's contact: the points' parameters s and t on the two edges.
+              weights.row(k) = cs[k].edge() ? Eigen::RowVector3d(-cs[k].weights[0], cs[k].weights[2], 0.0)
+                                            : Eigen::RowVector3d(cs[k].weights.transpose());
               normals.row(k) = cs[k].normal.transpose();
               points.row(k) = cs[k].point.transpose();
               forces.row(k) = committed ? Vec3(set.forces().col(k)) : Vec3(Vec3::Zero());
@@ -173,6 +180,7 @@ void bind_contact(py::module_& m) {
             d["obstacles"] = obstacles;
             d["parts"] = parts;
             d["partners"] = partners;
+            d["edges"] = edges;
             d["weights"] = weights;
             d["normals"] = normals;
             d["points"] = points;
@@ -182,7 +190,9 @@ void bind_contact(py::module_& m) {
             return d;
           },
           "The last step's contacts: nodes, obstacle indices (-1 for a part), part indices (-1 for an obstacle), "
-          "a part's triangle (partners, -1 for an obstacle) and the contact point's weights on it, the planes "
+          "a part's triangle (partners, -1 for an obstacle) and the contact point's weights on it (an edge against "
+          "an edge, edges True: nodes and partners[:, 0] the edge, partners[:, 1:] the other's, weights (s, t, 0) "
+          "the points on them), the planes "
           "(normals, points), the force each exerted on its node at the step's end (m, 3), the normal multipliers "
           "carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).")
       .def(

@@ -450,7 +450,7 @@ class Simulation:
     @property
     def contacts(self) -> dict:
         """
-        The last step's contacts: nodes, obstacle indices (-1 for a part), part indices (-1 for an obstacle), a part's triangle (partners, -1 for an obstacle) and the contact point's weights on it, the planes (normals, points), the force each exerted on its node at the step's end (m, 3), the normal multipliers carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).
+        The last step's contacts: nodes, obstacle indices (-1 for a part), part indices (-1 for an obstacle), a part's triangle (partners, -1 for an obstacle) and the contact point's weights on it (an edge against an edge, edges True: nodes and partners[:, 0] the edge, partners[:, 1:] the other's, weights (s, t, 0) the points on them), the planes (normals, points), the force each exerted on its node at the step's end (m, 3), the normal multipliers carried to the next step and the friction limits mu N of the step (N: the multiplier carried into it).
         """
     @property
     def external_forces(self) -> numpy.ndarray:
@@ -561,7 +561,10 @@ class TriangleMesh(Obstacle):
     def vertices(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
 class ContactSettings:
-    def __init__(self, stiffness_scale: typing.SupportsFloat | typing.SupportsIndex = 100.0, friction_velocity: typing.SupportsFloat | typing.SupportsIndex = 0.001) -> None:
+    def __init__(self, stiffness_scale: typing.SupportsFloat | typing.SupportsIndex = 100.0, friction_velocity: typing.SupportsFloat | typing.SupportsIndex = 0.001, edge_contact: bool = True) -> None:
+        ...
+    @property
+    def edge_contact(self) -> bool:
         ...
     @property
     def friction_velocity(self) -> float:

@@ -115,20 +115,37 @@ class ContactMembers:
         return self._contact_surface
 
     @property
-    def contact_settings(self) -> dict[str, float]:
+    def contact_settings(self) -> dict[str, float | bool]:
         """{"stiffness_scale": contact stiffness over the node's own stiffness in the step
         (default 100), "friction_velocity": slip speed [m/s] below which friction sticks
-        (default 1e-3; the smoothed Coulomb law's width)}. Assign a dict with either key."""
+        (default 1e-3; the smoothed Coulomb law's width), "edge_contact": whether the parts'
+        surfaces also touch edge against edge, where two edges cross with no node inside the
+        other surface (default True)}. Assign a dict with any of the keys."""
         s = self._sim.contact_settings
-        return {"stiffness_scale": s.stiffness_scale, "friction_velocity": s.friction_velocity}
+        return {
+            "stiffness_scale": s.stiffness_scale,
+            "friction_velocity": s.friction_velocity,
+            "edge_contact": s.edge_contact,
+        }
 
     @contact_settings.setter
-    def contact_settings(self, settings: dict[str, float]) -> None:
-        unknown = set(settings) - {"stiffness_scale", "friction_velocity"}
+    def contact_settings(self, settings: dict[str, float | bool]) -> None:
+        known = ("stiffness_scale", "friction_velocity", "edge_contact")
+        unknown = set(settings) - set(known)
         if unknown:
-            raise ValueError(f"unknown contact settings {sorted(unknown)}; known: stiffness_scale, friction_velocity")
-        merged = {**self.contact_settings, **{k: real_number(v, k) for k, v in settings.items()}}
-        self._sim.contact_settings = _core.ContactSettings(**merged)
+            raise ValueError(f"unknown contact settings {sorted(unknown)}; known: {', '.join(known)}")
+        checked: dict[str, float | bool] = {}
+        for key, value in settings.items():
+            if key == "edge_contact":
+                if not isinstance(value, (bool, np.bool_)):
+                    raise TypeError(f"edge_contact must be True or False, not {value!r}")
+                checked[key] = bool(value)
+            else:
+                checked[key] = real_number(value, key)
+        merged = {**self.contact_settings, **checked}
+        self._sim.contact_settings = _core.ContactSettings(
+            float(merged["stiffness_scale"]), float(merged["friction_velocity"]), bool(merged["edge_contact"])
+        )
 
     @property
     def contacts(self) -> dict[str, np.ndarray]:
@@ -140,7 +157,11 @@ class ContactMembers:
         a little),
         "multipliers" (the normal force carried to the next step) and "friction_limits"
         (mu N of the step, N the multiplier carried into it: a new contact has no friction
-        in its first step)."""
+        in its first step). Between parts, "parts" is the part touched (-1: an obstacle) and
+        "partners" the nodes of its triangle with the point's "weights" on them; an edge of one
+        part against an edge of another ("edges" True) has its edge in "nodes" and
+        "partners"[:, 0], the other edge in "partners"[:, 1:], and the points' parameters
+        (s, t, 0) along them in "weights"."""
         return {k: np.asarray(v) for k, v in self._sim.contacts.items()}
 
     def contact_force(self, obstacle: Obstacle | None = None) -> np.ndarray:

@@ -57,7 +57,7 @@ def test_obstacle_misuse():
         sim.contact_settings = {"friction_velocity": float("nan")}
     with pytest.raises(ValueError, match="unknown contact settings"):
         sim.contact_settings = {"stiffnes_scale": 10.0}
-    assert sim.contact_settings == {"stiffness_scale": 100.0, "friction_velocity": 1e-3}
+    assert sim.contact_settings == {"stiffness_scale": 100.0, "friction_velocity": 1e-3, "edge_contact": True}
     sim.remove_obstacle(ground)
     assert sim.obstacles == []
 

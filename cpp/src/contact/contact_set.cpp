@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "corotate/contact/closest_point_on_triangle.hpp"
+#include "corotate/contact/closest_points_on_segments.hpp"
 #include "corotate/sparse/single_precision_symmetric.hpp"
 
 namespace corotate {
@@ -155,6 +156,13 @@ void ContactSet::set_parts(std::vector<int> part_of_node, std::vector<PartSurfac
                            const BlockSparseMatrix* neighbourhoods) {
   part_of_node_ = std::move(part_of_node);
   parts_ = std::move(parts);
+  edge_offset_.clear();
+  num_edges_ = 0;
+  for (PartSurface& part : parts_) {
+    if (!part.edges) part.edges = std::make_shared<const SurfaceEdges>(surface_edges(part.triangles));
+    edge_offset_.push_back(num_edges_);
+    num_edges_ += part.edges->size();
+  }
   neighbourhoods_ = neighbourhoods;
   vertex_of_node_.assign(part_of_node_.size(), -1);
   for (const PartSurface& part : parts_)
@@ -234,14 +242,14 @@ void ContactSet::consider(Index i, const Vec3& xi, const Vec3& vi, const Obstacl
   // the point ends inside.
   const double graze = 1.5 * dt * dt * gravity.norm();
   if (table_ && lambda == 0 && distance_at_a <= graze && -surface.local_distance(b, normal) <= graze) c.active = false;
-  keep(c, lambda, friction, surface_velocity, vi, dt);
+  keep(c, lambda, friction, surface_velocity, vi, dt, unit(i));
 }
 
 void ContactSet::keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Vec3& vi,
-                      double dt) {
-  const Index i = c.node;
-  c.stiffness = settings_.stiffness_scale * (unit_mass(i) / (dt * dt) + unit_stiffness(i));
+                      double dt, const Unit& unit) {
+  c.stiffness = settings_.stiffness_scale * (unit.mass / (dt * dt) + unit.stiffness);
   c.multiplier = lambda;
+  c.size = unit.size;
   // An impact: a new contact that closes at more than 1 % of the node's size per step
   // (not a resting node that touches again under gravity's dt^2 g); or any contact with a
   // surface that moves by as much (a tool pushing or sweeping the body). Both ask the step
@@ -250,8 +258,8 @@ void ContactSet::keep(Contact& c, double lambda, double friction, const Vec3& su
   // multipliers (and reported forces) tens of times the real ones, which the next step then
   // applied.
   const double closing = c.normal.dot(vi - surface_velocity) * dt;
-  c.moving_surface = surface_velocity.norm() * dt > 1e-2 * unit_size(i);
-  c.impact = (lambda == 0 && closing < -1e-2 * unit_size(i)) || c.moving_surface;
+  c.moving_surface = surface_velocity.norm() * dt > 1e-2 * unit.size;
+  c.impact = (lambda == 0 && closing < -1e-2 * unit.size) || c.moving_surface;
   // The normal force friction scales with: the one the contact carried over the last
   // step (none in a contact's first step: a prediction from the penetration the step
   // would have without contact overestimates an impact's force by the stiffness scale).
@@ -370,7 +378,112 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
   // A path that ends in front is left to the active set (update_active takes the contact in
   // if the node ends behind the triangle): as a spring it would pull the node onto it.
   c.active = !(touch.ahead && lambda == 0);
-  keep(c, lambda, part_friction_, surface_velocity, v.col(i), dt);
+  keep(c, lambda, part_friction_, surface_velocity, v.col(i), dt, unit(i));
+}
+
+void ContactSet::consider_edges(int p, int q, const Nodes& x, const Nodes& v, const Vec3& gravity, double dt,
+                                const std::vector<std::pair<Index, double>>& carried) {
+  const PartSurface& mine = parts_[p];
+  const PartSurface& other = parts_[q];
+  const SurfaceEdges& edges = *mine.edges;
+  const SurfaceEdges& other_edges = *other.edges;
+  const bool self = p == q;
+  const double fall = dt * dt * gravity.norm();
+  // The parts' boxes at the step's end: edges of one that stay out of reach of the other's
+  // box are skipped before any range query.
+  const Vec3 other_low = other.ends.rowwise().minCoeff(), other_high = other.ends.rowwise().maxCoeff();
+  std::vector<int>& near = candidate_edges_.value;
+  const std::vector<char>& touching = touching_.value;
+  for (int e1 = 0; e1 < edges.size(); ++e1) {
+    const int va = edges.vertices[e1][0], vb = edges.vertices[e1][1];
+    const Index a = mine.nodes[va], b = mine.nodes[vb];
+    const Vec3 A = mine.ends.col(va), B = mine.ends.col(vb);
+    const double size = 0.5 * (unit_size(a) + unit_size(b));
+    const double depth = 0.25 * size;
+    const double travel =
+        dt * std::max((v.col(a) - other.mean_velocity).norm(), (v.col(b) - other.mean_velocity).norm());
+    const double reach = depth + fall + 1.5 * (travel + other.spread);
+    if (((A.cwiseMin(B).array() - reach) > other_high.array()).any() ||
+        ((A.cwiseMax(B).array() + reach) < other_low.array()).any())
+      continue;
+    // (A touching node, see below, rules the edge out before its range query.)
+    if (touching[a] || touching[b] || !convex_edge(edges, e1, mine.ends, mine.normals, 1e-6)) continue;
+    const Vec3 m1 = mine.normals.col(edges.faces[e1][0]), m2 = mine.normals.col(edges.faces[e1][1]);
+    // The other surface's edges of the triangles near this edge, each once.
+    other.mesh->triangles_near(0.5 * (A + B), 0.5 * (B - A).norm() + reach, candidates_.value);
+    near.clear();
+    for (int t : candidates_.value)
+      for (int e2 : other_edges.of_triangle[t])
+        if (!self || e2 > e1) near.push_back(e2);
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    for (int e2 : near) {
+      const int vc = other_edges.vertices[e2][0], vd = other_edges.vertices[e2][1];
+      const Index c = other.nodes[vc], d = other.nodes[vd];
+      if (self) {  // away from the edge's own neighbourhood (which shares an element with it)
+        bool neighbours = false;
+        for (Index i : {a, b})
+          for (Index j : {c, d}) neighbours = neighbours || neighbourhoods_->block_index(i, j) >= 0;
+        if (neighbours) continue;
+      }
+      // Where a node of either edge touches a surface already, its contact holds the pair
+      // apart there (a face resting on a face: the rims cross at the same height, and a second
+      // constraint on the same spot only makes the two fight).
+      if (touching[c] || touching[d]) continue;
+      const Vec3 C = other.ends.col(vc), D = other.ends.col(vd);
+      const SegmentPoints nearest = closest_points_on_segments(A, B, C, D);
+      const double s = nearest.s, t = nearest.t;
+      // Within 2 % of an edge's end a node is where the edges meet, and its own contact
+      // (consider()) holds it: the node sinks by at most 2 % of the edge before it touches.
+      // (Crossings at a node, s or t within 1 % of an end, made contacts of a few newtons
+      // with a normal that means nothing where two meshes' nodes coincide, and they changed
+      // how a block slid on a slab by a factor of four.)
+      constexpr double kEnd = 0.02;
+      if (!(s > kEnd && s < 1 - kEnd && t > kEnd && t < 1 - kEnd)) continue;
+      Vec3 n = (B - A).cross(D - C);
+      const double sine = n.norm() / ((B - A).norm() * (D - C).norm());
+      if (!(sine > 1e-3)) continue;  // (near) parallel: the edges' nodes meet the faces first
+      n.normalize();
+      if (!convex_edge(other_edges, e2, other.ends, other.normals, 1e-6)) continue;
+      const Vec3 n1 = other.normals.col(other_edges.faces[e2][0]), n2 = other.normals.col(other_edges.faces[e2][1]);
+      if (n.dot(n1 + n2) < 0) n = -n;  // out of the other surface
+      // Each edge the other surface's nearest feature: n in the other edge's normal cone (the
+      // arc between its triangles' normals), -n in this one's.
+      // With some slack (about 6 degrees): a face's rim lying across a ridge puts n on the
+      // cone's border, and as the face bends under the contact n leaves the cone by a little,
+      // which dropped the contact every other step.
+      const double cone = n1.dot(n2) - 0.1, my_cone = m1.dot(m2) - 0.1;
+      if (n.dot(n1) < cone || n.dot(n2) < cone || -n.dot(m1) < my_cone || -n.dot(m2) < my_cone) continue;
+      Contact contact;
+      contact.node = a;
+      contact.own = 1 - s;
+      contact.partners = {b, c, d};
+      contact.weights = Vec3(-s, 1 - t, t);
+      contact.obstacle = -1 - q;
+      contact.edge_pair = (edge_offset_[p] + e1) * num_edges_ + edge_offset_[q] + e2;
+      contact.normal = n;
+      contact.anchor = Vec3::Zero();
+      const auto found = std::lower_bound(carried.begin(), carried.end(), std::make_pair(contact.edge_pair, -1.0));
+      const double lambda = found != carried.end() && found->first == contact.edge_pair ? found->second : 0.0;
+      const Vec3 start = relative(contact, x);
+      const Vec3 end = (1 - s) * A + s * B - (1 - t) * C - t * D;
+      const double gap_start = n.dot(start), gap_end = n.dot(end);
+      const double margin = 0.5 * (end - start).norm() + fall;
+      if (lambda == 0 && (gap_end >= margin || gap_start < -depth)) continue;
+      contact.point = (1 - t) * C + t * D;
+      contact.slip_origin = start;
+      // A pair that ends in front is left to the active set, as a self-contact's path is.
+      contact.active = !(gap_end >= 0 && lambda == 0);
+      const Vec3 surface_velocity = (1 - t) * other.velocities.col(vc) + t * other.velocities.col(vd);
+      const Vec3 velocity = (1 - s) * v.col(a) + s * v.col(b);
+      // The edge's point: its nodes in series.
+      const double sa = (1 - s) * (1 - s), sb = s * s;
+      const Unit point{1 / (sa / std::max(unit_mass(a), 1e-300) + sb / std::max(unit_mass(b), 1e-300)),
+                       1 / (sa / std::max(unit_stiffness(a), 1e-300) + sb / std::max(unit_stiffness(b), 1e-300)),
+                       (1 - s) * unit_size(a) + s * unit_size(b)};
+      keep(contact, lambda, part_friction_, surface_velocity, velocity, dt, point);
+    }
+  }
 }
 
 void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vector<Pose>& poses, const Nodes& x,
@@ -384,7 +497,7 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
   const auto carried = [&](Index node, int obstacle) {
     for (int c = first_contact_.value[node];
          c >= 0 && c < static_cast<int>(previous_.size()) && previous_[c].node == node; ++c)
-      if (previous_[c].obstacle == obstacle) return previous_[c].multiplier;
+      if (previous_[c].obstacle == obstacle && !previous_[c].edge()) return previous_[c].multiplier;
     return 0.0;
   };
 
@@ -438,12 +551,38 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
     if (has_self_contact())
       for (Index i : nodes_)
         if (vertex_of_node_[i] >= 0) consider_self(i, x, v, gravity, dt, carried);
+    if (settings_.edge_contact) {
+      std::vector<std::pair<Index, double>>& edge_multipliers = carried_edges_.value;
+      edge_multipliers.clear();
+      for (const Contact& c : previous_)
+        if (c.edge() && c.multiplier > 0) edge_multipliers.emplace_back(c.edge_pair, c.multiplier);
+      std::sort(edge_multipliers.begin(), edge_multipliers.end());
+      std::vector<char>& touching = touching_.value;
+      touching.assign(static_cast<size_t>(x.cols()), 0);
+      for (const Contact& c : contacts_)
+        if (c.obstacle < 0) touching[static_cast<size_t>(c.node)] = 1;
+      for (PartSurface& part : parts_) {  // the triangles' normals where the step ends
+        part.normals.resize(3, static_cast<Index>(part.triangles.size()));
+        for (size_t k = 0; k < part.triangles.size(); ++k) {
+          const auto& tri = part.triangles[k];
+          const Vec3 e0 = part.ends.col(tri[0]);
+          part.normals.col(static_cast<Index>(k)) =
+              (part.ends.col(tri[1]) - e0).cross(part.ends.col(tri[2]) - e0).normalized();
+        }
+      }
+      const int count = static_cast<int>(parts_.size());
+      for (int p = 0; p < count; ++p)
+        for (int q = has_self_contact() ? p : p + 1; q < count; ++q)
+          consider_edges(p, q, x, v, gravity, dt, edge_multipliers);
+    }
   }
   for (const Contact& c : previous_) first_contact_.value[c.node] = -1;  // back to all -1 (no allocation)
   share_among_points(dt);
   // Sorted by node, so that the next step finds a node's contacts side by side.
   std::sort(contacts_.begin(), contacts_.end(), [](const Contact& p, const Contact& q) {
-    return p.node != q.node ? p.node < q.node : p.obstacle < q.obstacle;
+    return p.node != q.node           ? p.node < q.node
+           : p.obstacle != q.obstacle ? p.obstacle < q.obstacle
+                                      : p.edge_pair < q.edge_pair;
   });
 }
 
@@ -458,7 +597,7 @@ ContactSet::Stencil ContactSet::stencil(const Contact& c) const {
   Stencil s;
   if (!table_) {
     s.nodes[0] = c.node;
-    s.e[0] = 1;
+    s.e[0] = c.own;
     s.size = 1;
   } else {
     const ContactPoints& points = table_->points;
@@ -682,7 +821,7 @@ bool ContactSet::update_active(const Nodes& x_new) {
     // the tissue a tool moved away from with a pull of k times the band, a few newtons per
     // node, for as long as they touched. (1e-6 at impacts too cost the landing armadillo five
     // times the CG iterations, in passes.)
-    const double noise = (c.moving_surface ? 1e-6 : 1e-3) * unit_size(c.node);
+    const double noise = (c.moving_surface ? 1e-6 : 1e-3) * c.size;
     const bool active = c.active ? gap <= std::max(c.multiplier / c.stiffness, noise) : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;

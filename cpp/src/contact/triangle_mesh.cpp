@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "corotate/contact/closest_point_on_triangle.hpp"
+#include "corotate/contact/surface_edges.hpp"
 
 namespace corotate {
 
@@ -27,12 +28,6 @@ struct TriangleMesh::Nearest {
 
 namespace {
 
-std::string vertex_list(int i, int j) {
-  std::ostringstream s;
-  s << "(" << i << ", " << j << ")";
-  return s.str();
-}
-
 double diagonal(const Nodes& vertices) {
   return (vertices.rowwise().maxCoeff() - vertices.rowwise().minCoeff()).norm();
 }
@@ -40,41 +35,13 @@ double diagonal(const Nodes& vertices) {
 // Checks that every edge joins exactly two triangles in opposite directions and returns, per
 // triangle edge, the triangle on its other side.
 std::vector<int> edge_neighbours(const Triangles& triangles) {
-  struct HalfEdge {
-    int low, high, triangle, edge;
-    bool forward;  // low -> high in the triangle's winding
-  };
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(3 * triangles.size());
+  const SurfaceEdges edges = surface_edges(triangles, "the obstacle mesh");
+  std::vector<int> neighbours(3 * triangles.size(), -1);
   for (size_t t = 0; t < triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      const int i = triangles[t][k], j = triangles[t][(k + 1) % 3];
-      half_edges.push_back({std::min(i, j), std::max(i, j), static_cast<int>(t), k, i < j});
+      const auto& faces = edges.faces[edges.of_triangle[t][k]];
+      neighbours[3 * t + k] = faces[0] == static_cast<int>(t) ? faces[1] : faces[0];
     }
-  std::sort(half_edges.begin(), half_edges.end(),
-            [](const HalfEdge& p, const HalfEdge& q) { return p.low != q.low ? p.low < q.low : p.high < q.high; });
-  std::vector<int> neighbours(3 * triangles.size(), -1);
-  for (size_t g = 0; g < half_edges.size();) {
-    size_t end = g + 1;
-    while (end < half_edges.size() && half_edges[end].low == half_edges[g].low &&
-           half_edges[end].high == half_edges[g].high)
-      ++end;
-    const HalfEdge& p = half_edges[g];
-    const std::string edge = vertex_list(p.low, p.high);
-    if (end - g == 1)
-      throw InvalidInput("the obstacle mesh is not closed: edge " + edge + " of triangle " +
-                         std::to_string(p.triangle) + " belongs to no other triangle (a hole)");
-    if (end - g > 2)
-      throw InvalidInput("the obstacle mesh is not a surface: edge " + edge + " is shared by " +
-                         std::to_string(end - g) + " triangles");
-    const HalfEdge& q = half_edges[g + 1];
-    if (p.forward == q.forward)
-      throw InvalidInput("the obstacle mesh is not consistently oriented: triangles " + std::to_string(p.triangle) +
-                         " and " + std::to_string(q.triangle) + " run along edge " + edge + " the same way");
-    neighbours[3 * p.triangle + p.edge] = q.triangle;
-    neighbours[3 * q.triangle + q.edge] = p.triangle;
-    g = end;
-  }
   return neighbours;
 }
 

@@ -51,6 +51,24 @@
 // the triangle's). The contact is then a part's contact like any other:
 // the gap n . (y_i - sum_j w_j y_j) along the triangle's normal.
 //
+// Edge against edge (an option, on by default, between parts and, with self-contact, within
+// one): two surfaces' edges can cross with no node inside the other surface (two ridges
+// crossed like the beams of a cross, a box's edge across another's). A convex edge (a, b) of
+// one surface and a convex edge (c, d) of another (or of the same part, away from their
+// neighbourhoods) whose nearest points at the step's predicted end, p(s) = a + s (b - a) and
+// q(t) = c + t (d - c), lie inside both edges (more than 2 % from their ends, where a node's
+// own contact holds them) touch along their common normal n = (b - a) x (d - c) / |...|,
+// turned out of the second surface, when n lies in the second edge's normal cone and -n in
+// the first's (each edge is then the other surface's nearest feature; with 6 degrees of
+// slack, as a face's rim across a ridge puts n on the border) and the pair ends crossed or in
+// front by less than half its relative path plus dt^2 g, having started at most a quarter of
+// its size behind. Where a node of either edge already touches a part, its contact holds the
+// pair (a face resting on a face: the rims cross at one height). The contact is a part's
+// contact of the relative position r = (1 - s) y_a + s y_b - (1 - t) y_c - t y_d along n,
+// with e = (1 - s, s, -(1 - t), -t): everything above holds for it, its mass and stiffness
+// those of the edge's nodes in series. A pair that ends in front starts released, for the
+// active set to take in.
+//
 // Contact points other than the nodes (an option, against obstacles): the vertices of an
 // embedded render surface, so that the detailed surface, not the coarse body, touches the
 // world. Point p is a fixed combination sum_k w_k x_{n_k} of one element's nodes (its
@@ -75,6 +93,7 @@
 #include <vector>
 
 #include "corotate/contact/obstacle.hpp"
+#include "corotate/contact/surface_edges.hpp"
 #include "corotate/contact/triangle_mesh.hpp"
 #include "corotate/solvers/linear_solver.hpp"
 #include "corotate/sparse/block_sparse_matrix.hpp"
@@ -86,6 +105,7 @@ class SinglePrecisionSymmetric;
 struct ContactSettings {
   double stiffness_scale = 100;     // contact stiffness / the node's own stiffness in the step
   double friction_velocity = 1e-3;  // [m/s] slip speed below which friction sticks (smoothed)
+  bool edge_contact = true;         // edges against edges between parts (and within one)
   void validate() const;            // throws InvalidInput naming the parameter
 };
 
@@ -107,9 +127,11 @@ struct PartSurface {
   std::shared_ptr<TriangleMesh> mesh;
   std::vector<Index> nodes;  // mesh vertex -> body node
   Triangles triangles;       // the mesh's outward triangles (vertex indices)
+  std::shared_ptr<const SurfaceEdges> edges;  // theirs (set_parts builds them)
   Nodes ends, velocities;    // the step's predicted vertices and their velocities (work space)
   Vec3 mean_velocity = Vec3::Zero();  // of the vertices over the step, and dt times the
   double spread = 0;                  // largest speed relative to it (self-contact's reach)
+  Nodes normals;                      // the triangles' unit normals at ends (edge contact)
 };
 
 // Contact points other than the nodes (see above): per_point nodes and weights per point.
@@ -129,7 +151,10 @@ struct ContactPoints {
 
 // One active contact of the step.
 struct Contact {
-  Index node = 0;  // its contact node, or with contact points (set_points) the point
+  Index node = 0;  // its contact node, or with contact points (set_points) the point; an
+                   // edge's first node
+  double own = 1;  // node's coefficient in r (1, or an edge's point: 1 - s)
+  Index edge_pair = -1;  // an edge against an edge: the pair's key (its multiplier's, step to step)
   int obstacle = 0;           // index into the links; -1 - p for part p of the body
   std::array<Index, 3> partners = {-1, -1, -1};  // a part's triangle: its corner nodes
   Vec3 weights = Vec3::Zero();                   // and the contact point's weights on them
@@ -140,11 +165,13 @@ struct Contact {
   double multiplier = 0;      // lambda [N]
   double friction_force = 0;  // mu N, N lagged: the multiplier carried into the step [N]
   double slip_width = 0;      // eps [m] of the smoothed friction
+  double size = 0;            // its node's (point's, edge point's) size [m]
   bool active = true;         // false: released by the linearised step (update_active), or
                               // a self-contact's path that ends just in front (taken in there)
   bool impact = false;        // new and closing fast, or on a moving surface (has_impacts)
   bool moving_surface = false;  // the surface moves by 1 % of the node's size in the step
   bool coupled() const { return partners[0] >= 0; }
+  bool edge() const { return edge_pair >= 0; }
 };
 
 // Work space that a copy of its owner does not copy (the copy makes its own when it needs
@@ -289,11 +316,21 @@ class ContactSet final : public SystemCoupling {
   double unit_mass(Index i) const { return (table_ ? *table_ : *nodes_table_).masses[i]; }
   double unit_stiffness(Index i) const { return (table_ ? *table_ : *nodes_table_).stiffness[i]; }
   double unit_size(Index i) const { return (table_ ? *table_ : *nodes_table_).sizes[i]; }
+  // A unit's mass, rest stiffness and size, for keep().
+  struct Unit {
+    double mass, stiffness, size;
+  };
+  Unit unit(Index i) const { return {unit_mass(i), unit_stiffness(i), unit_size(i)}; }
   // One contact of node i against a surface, if its path touches it (detect()).
   template <class Carried>
   void consider(Index i, const Vec3& xi, const Vec3& vi, const Obstacle& surface, int id, const Pose& start,
                 const Pose& end, double friction, const Nodes& x, const Vec3& gravity, double dt,
                 const Carried& carried, const PartSurface* part);
+  // The edges of part p against those of part q (q > p; q == p: self-contact, away from
+  // each edge's neighbourhood), where they cross or are about to (see above). `carried`: the
+  // last step's edge contacts' multipliers by key, sorted.
+  void consider_edges(int p, int q, const Nodes& x, const Nodes& v, const Vec3& gravity, double dt,
+                      const std::vector<std::pair<Index, double>>& carried);
   // Node i (on its part's surface) against that surface, away from its neighbourhood.
   template <class Carried>
   void consider_self(Index i, const Nodes& x, const Nodes& v, const Vec3& gravity, double dt, const Carried& carried);
@@ -302,7 +339,8 @@ class ContactSet final : public SystemCoupling {
   void share_among_points(double dt);
   // Sets c's stiffness, multiplier, friction and impact flags and keeps it: c touches a
   // surface moving at surface_velocity, having carried lambda.
-  void keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Vec3& vi, double dt);
+  void keep(Contact& c, double lambda, double friction, const Vec3& surface_velocity, const Vec3& vi, double dt,
+            const Unit& unit);
 
   std::vector<Index> nodes_;
   std::vector<int> part_of_node_;
@@ -311,6 +349,11 @@ class ContactSet final : public SystemCoupling {
   double part_friction_ = 0;
   const BlockSparseMatrix* neighbourhoods_ = nullptr;  // the model's pattern; null: no self-contact
   Scratch<std::vector<int>> candidates_;                    // self-contact's range query
+  Scratch<std::vector<int>> candidate_edges_;               // edge contact's
+  Scratch<std::vector<char>> touching_;                     // per node: in a part's contact
+  Scratch<std::vector<std::pair<Index, double>>> carried_edges_;  // (key, multiplier), sorted
+  std::vector<Index> edge_offset_;                          // part p's first edge's key
+  Index num_edges_ = 0;                                     // of all parts
   std::vector<char> fixed_;                 // per node
   mutable std::vector<Mat3> coupling_;      // per contact: H of the last assembly (scaled)
   mutable bool coupled_ = false;
