@@ -169,6 +169,10 @@ class EmbeddedSurface:
         )
         self._positions = self._mesh.points.copy()
         self._normals = np.ascontiguousarray(self._core.rest_normals)
+        # Set by Scene.embedded_surface: the body's nodes within the scene's simulation (a
+        # contiguous range) and how many nodes that simulation has.
+        self._scene_nodes: slice | None = None
+        self._n_scene_nodes = 0
 
     @classmethod
     def from_file(
@@ -222,7 +226,9 @@ class EmbeddedSurface:
     def update(self, state: Any, normals: NormalsMode = "area") -> None:
         """Move the surface to the body's current positions.
 
-        state    a Simulation (anything with ``.positions``) or body positions (n, 3)
+        state    a Simulation (anything with ``.positions``) or body positions (n, 3); for a
+                 scene's surface (``Scene.embedded_surface``) also the scene's simulation or
+                 its positions, of which it takes its body's nodes
         normals  "area" (default): area-weighted normals of the deformed surface;
                  "rotated": the rest normals turned by each vertex's element rotation
                  (cheaper on a fine surface; exact for rigid motions, blind to bending
@@ -233,8 +239,11 @@ class EmbeddedSurface:
             raise ValueError(f"normals must be one of {_NORMALS}, got {normals!r}")
         x = getattr(state, "positions", state)
         x = np.asarray(x, dtype=np.float64)
+        if self._scene_nodes is not None and x.shape == (self._n_scene_nodes, 3):
+            x = x[self._scene_nodes]  # (a view: the body's nodes are one range of the scene's)
         if x.shape != (self._n_body_nodes, 3):
-            raise ValueError(f"body positions must have shape ({self._n_body_nodes}, 3), got {x.shape}")
+            scene = f" or the scene's ({self._n_scene_nodes}, 3)" if self._scene_nodes is not None else ""
+            raise ValueError(f"body positions must have shape ({self._n_body_nodes}, 3){scene}, got {x.shape}")
         if normals == "rotated":
             self._core.rotated_normals(x, self._normals)  # checks x before writing anything
         self._core.embed(x, self._positions)

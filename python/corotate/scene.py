@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from .body import Body
+from .embedding import EmbeddedSurface
 from .joined_body import JoinedBody, check_solid_bodies
 from .mesh import Mesh
 from .mesh_checks import _unchecked
@@ -87,6 +88,20 @@ class Scene:
         if i.size and (not np.issubdtype(i.dtype, np.integer) or i.min() < 0 or i.max() >= stop - start):
             raise ValueError(f"body {k} has nodes 0..{stop - start - 1}; got {np.asarray(local).tolist()}")
         return i.astype(np.int64) + start
+
+    def embedded_surface(
+        self, k: int, vertices: ArrayLike, triangles: ArrayLike, max_outside_distance: float = 1.0
+    ) -> EmbeddedSurface:
+        """A render surface embedded in body k (``corotate.EmbeddedSurface`` of
+        ``scene.bodies[k]``, any cell type): its ``update`` takes the scene's simulation (or
+        its positions) and moves with body k's nodes. Each body of a scene, mixed cell types
+        included, can carry its own. ValueError for a body out of range, or as
+        EmbeddedSurface."""
+        nodes = self.nodes(k)
+        surface = EmbeddedSurface(self._bodies[k], vertices, triangles, max_outside_distance=max_outside_distance)
+        surface._scene_nodes = slice(int(nodes[0]), int(nodes[-1]) + 1)
+        surface._n_scene_nodes = int(self._offsets[-1])
+        return surface
 
     def simulation(self, friction: float = 0.0, self_contact: bool = False, **settings: Any) -> Simulation:
         """A Simulation of the scene's bodies (settings: as ``cr.Simulation``'s: dt, solver,

@@ -168,3 +168,39 @@ def test_a_probe_pressed_into_a_mixed_scene_feels_the_weight_it_lifts():
     assert force[2] > 0.5  # pushed back up
     np.testing.assert_allclose(force, -sim.contact_force(probe), atol=1e-9)
     np.testing.assert_allclose(sim.part_contact_force(0, 1), -force, rtol=0, atol=0.01 * abs(force[2]))
+
+
+def test_each_body_of_a_mixed_scene_carries_its_own_render_surface():
+    """Scene.embedded_surface: a surface in the tet bar and one in the hex bar of a mixed scene
+    follow their bodies: after the steps, each equals the same surface embedded in its body
+    alone and updated with that body's nodes, to the bit; at rest they are the vertices given."""
+    bodies = three_cantilevers()[:2]
+    scene = cr.Scene(bodies)
+    sim = scene.simulation(gravity=(0, 0, -9.81), solver=cr.Direct())
+    sim.fix(np.concatenate([scene.nodes(k, clamped(b.mesh)) for k, b in enumerate(bodies)]))
+    rng = np.random.default_rng(5)
+    surfaces, alone = [], []
+    for k, b in enumerate(bodies):
+        low, high = b.mesh.points.min(axis=0), b.mesh.points.max(axis=0)
+        vertices = low + (high - low) * rng.uniform(0.05, 0.95, size=(40, 3))  # inside the bar
+        triangles = np.arange(39 * 3).reshape(-1, 3) % 40
+        surfaces.append(scene.embedded_surface(k, vertices, triangles))
+        alone.append(cr.EmbeddedSurface(b, vertices, triangles))
+        np.testing.assert_array_equal(surfaces[k].positions, vertices)
+    sim.step(10)
+    for k, (surface, own) in enumerate(zip(surfaces, alone)):
+        surface.update(sim)
+        own.update(sim.positions[scene.nodes(k)])
+        np.testing.assert_array_equal(surface.positions, own.positions)
+        np.testing.assert_array_equal(surface.normals, own.normals)
+        assert surface.positions[:, 2].min() < own.mesh.points[:, 2].min() - 1e-4  # they sagged
+    surfaces[1].update(sim.positions)  # the scene's positions do too
+    np.testing.assert_array_equal(surfaces[1].positions, alone[1].positions)
+    with pytest.raises(ValueError, match="body 2 is out of range"):
+        scene.embedded_surface(2, np.zeros((1, 3)), np.zeros((0, 3)))
+    before = surfaces[0].positions.copy()
+    with pytest.raises(ValueError, match=r"\(36, 3\) or the scene's \(72, 3\)"):
+        surfaces[0].update(np.zeros((5, 3)))
+    np.testing.assert_array_equal(surfaces[0].positions, before)
+    with pytest.raises(ValueError, match="one body of a scene"):
+        sim.set_contact_surface(surfaces[0])
