@@ -407,8 +407,8 @@ void ContactSet::consider_edges(int p, int q, const Nodes& x, const Nodes& v, co
         ((A.cwiseMax(B).array() + reach) < other_low.array()).any())
       continue;
     // (A touching node, see below, rules the edge out before its range query.)
-    if (touching[a] || touching[b] || !convex_edge(edges, e1, mine.ends, mine.normals, 1e-6)) continue;
-    const Vec3 m1 = mine.normals.col(edges.faces[e1][0]), m2 = mine.normals.col(edges.faces[e1][1]);
+    if (touching[a] || touching[b] || !convex_edge(edges, e1, mine.ends, mine.normals.value, 1e-6)) continue;
+    const Vec3 m1 = mine.normals.value.col(edges.faces[e1][0]), m2 = mine.normals.value.col(edges.faces[e1][1]);
     // The other surface's edges of the triangles near this edge, each once.
     other.mesh->triangles_near(0.5 * (A + B), 0.5 * (B - A).norm() + reach, candidates_.value);
     near.clear();
@@ -444,8 +444,9 @@ void ContactSet::consider_edges(int p, int q, const Nodes& x, const Nodes& v, co
       const double sine = n.norm() / ((B - A).norm() * (D - C).norm());
       if (!(sine > 1e-3)) continue;  // (near) parallel: the edges' nodes meet the faces first
       n.normalize();
-      if (!convex_edge(other_edges, e2, other.ends, other.normals, 1e-6)) continue;
-      const Vec3 n1 = other.normals.col(other_edges.faces[e2][0]), n2 = other.normals.col(other_edges.faces[e2][1]);
+      if (!convex_edge(other_edges, e2, other.ends, other.normals.value, 1e-6)) continue;
+      const Vec3 n1 = other.normals.value.col(other_edges.faces[e2][0]),
+                 n2 = other.normals.value.col(other_edges.faces[e2][1]);
       if (n.dot(n1 + n2) < 0) n = -n;  // out of the other surface
       // Each edge the other surface's nearest feature: n in the other edge's normal cone (the
       // arc between its triangles' normals), -n in this one's.
@@ -562,11 +563,11 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
       for (const Contact& c : contacts_)
         if (c.obstacle < 0) touching[static_cast<size_t>(c.node)] = 1;
       for (PartSurface& part : parts_) {  // the triangles' normals where the step ends
-        part.normals.resize(3, static_cast<Index>(part.triangles.size()));
+        part.normals.value.resize(3, static_cast<Index>(part.triangles.size()));
         for (size_t k = 0; k < part.triangles.size(); ++k) {
           const auto& tri = part.triangles[k];
           const Vec3 e0 = part.ends.col(tri[0]);
-          part.normals.col(static_cast<Index>(k)) =
+          part.normals.value.col(static_cast<Index>(k)) =
               (part.ends.col(tri[1]) - e0).cross(part.ends.col(tri[2]) - e0).normalized();
         }
       }

@@ -119,6 +119,16 @@ struct ObstacleLink {
   bool seen = false;  // last_pose valid (no motion is assumed over the first step)
 };
 
+// Work space that a copy of its owner does not copy (the copy makes its own when it needs
+// it): a step's backup of the contact set copies the set at every step.
+template <class T>
+struct Scratch {
+  T value;
+  Scratch() = default;
+  Scratch(const Scratch&) {}
+  Scratch& operator=(const Scratch&) { return *this; }
+};
+
 // The closed surface of one part of the body, as the other parts see it.
 struct PartSurface {
   // Vertices: the part's surface nodes, in this order. Private to the simulation, which moves
@@ -131,7 +141,7 @@ struct PartSurface {
   Nodes ends, velocities;    // the step's predicted vertices and their velocities (work space)
   Vec3 mean_velocity = Vec3::Zero();  // of the vertices over the step, and dt times the
   double spread = 0;                  // largest speed relative to it (self-contact's reach)
-  Nodes normals;                      // the triangles' unit normals at ends (edge contact)
+  Scratch<Nodes> normals;             // the triangles' unit normals at ends (edge contact)
 };
 
 // Contact points other than the nodes (see above): per_point nodes and weights per point.
@@ -172,16 +182,6 @@ struct Contact {
   bool moving_surface = false;  // the surface moves by 1 % of the node's size in the step
   bool coupled() const { return partners[0] >= 0; }
   bool edge() const { return edge_pair >= 0; }
-};
-
-// Work space that a copy of its owner does not copy (the copy makes its own when it needs
-// it): a step's backup of the contact set copies the set at every step.
-template <class T>
-struct Scratch {
-  T value;
-  Scratch() = default;
-  Scratch(const Scratch&) {}
-  Scratch& operator=(const Scratch&) { return *this; }
 };
 
 class ContactSet final : public SystemCoupling {
