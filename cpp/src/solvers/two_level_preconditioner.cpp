@@ -3,9 +3,11 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 #include "corotate/parallel.hpp"
+#include "corotate/solvers/linear_solver.hpp"  // SystemCoupling
 #include "corotate/solvers/smoothed_aggregation.hpp"
 
 namespace corotate {
@@ -110,6 +112,8 @@ void TwoLevelPreconditioner::setup(const BlockSparseMatrix& A0) {
   coarse_start_ = coarse_start;
   // The contact terms' copy of the coarse matrix (same pattern) and their bookkeeping.
   coarse_with_terms_ = coarse_;
+  coupled_pairs_.clear();
+  coarse_positions_.clear();  // (the same pattern as coarse_)
   factored_with_terms_ = false;
   refactored_since_save_ = false;  // (a new hierarchy: no earlier factor to restore)
   excess_applies_ = 0;
@@ -141,6 +145,15 @@ void TwoLevelPreconditioner::factorize_coarse(const Eigen::SparseMatrix<double, 
 
 void TwoLevelPreconditioner::update_coarse_terms() {
   const bool any = terms_ && !terms_->empty();
+  // The coupling between parts in contact (see the header): a new pair of aggregates grows
+  // the coarse pattern, and the factor is made afresh.
+  const bool coupled = coupling_ != nullptr;
+  bool new_pairs = false;
+  if (coupled) {
+    coupled_aggregates(needed_pairs_);
+    new_pairs =
+        !std::includes(coupled_pairs_.begin(), coupled_pairs_.end(), needed_pairs_.begin(), needed_pairs_.end());
+  }
   // Refactorize when the terms first appear (without them the coarse correction pushes
   // aggregates into the floor that holds them), and when the applications the factor cost
   // beyond the fewest one solve took since it was made (plus one: solves vary by one or two
@@ -148,17 +161,27 @@ void TwoLevelPreconditioner::update_coarse_terms() {
   // off, a tool pushed somewhere else. Not at every change: contacts come and go from step to
   // step (the sides of the beam lying between two walls graze them and flip a third of its
   // aggregates every step), and a refactorization costs many steps' coarse solves.
-  const bool refactor =
-      (any && !factored_with_terms_) || (factored_with_terms_ && excess_applies_ > refactor_cost_in_applies_);
+  const bool contacts = any || coupled;
+  const bool refactor = (contacts && !factored_with_terms_) || new_pairs ||
+                        (factored_with_terms_ && excess_applies_ > refactor_cost_in_applies_);
   if (refactor) {
     if (!refactored_since_save_) {  // what a failed call restores
       saved_coarse_values_.assign(coarse_with_terms_.valuePtr(),
                                   coarse_with_terms_.valuePtr() + coarse_with_terms_.nonZeros());
+      saved_pairs_ = coupled_pairs_;
       refactored_since_save_ = true;
     }
+    if (new_pairs) {
+      std::vector<std::pair<int, int>> merged;
+      std::set_union(coupled_pairs_.begin(), coupled_pairs_.end(), needed_pairs_.begin(), needed_pairs_.end(),
+                     std::back_inserter(merged));
+      coupled_pairs_.swap(merged);
+      extend_coarse_pattern();
+    }
     add_terms_to_coarse(any);
-    factorize_coarse(any ? coarse_with_terms_ : coarse_);
-    factored_with_terms_ = any;
+    if (coupled) add_coupling();
+    factorize_coarse(coarse_with_terms_);
+    factored_with_terms_ = contacts;
     ++refactorizations_;
     excess_applies_ = 0;
     fewest_applies_ = std::numeric_limits<long>::max();
@@ -185,10 +208,14 @@ void TwoLevelPreconditioner::restore_state() {
   excess_applies_ = saved_.excess_applies;
   fewest_applies_ = saved_.fewest_applies;
   refactorizations_ = saved_.refactorizations;
-  if (refactored_since_save_ && Index(saved_coarse_values_.size()) == coarse_with_terms_.nonZeros()) {
-    // the factor of before the failed call, made again
-    std::copy(saved_coarse_values_.begin(), saved_coarse_values_.end(), coarse_with_terms_.valuePtr());
-    factorize_coarse(factored_with_terms_ ? coarse_with_terms_ : coarse_);
+  if (refactored_since_save_) {  // the factor of before the failed call, made again
+    if (coupled_pairs_ != saved_pairs_) {  // (on the pattern of then)
+      coupled_pairs_ = saved_pairs_;
+      extend_coarse_pattern();
+    }
+    if (Index(saved_coarse_values_.size()) == coarse_with_terms_.nonZeros())
+      std::copy(saved_coarse_values_.begin(), saved_coarse_values_.end(), coarse_with_terms_.valuePtr());
+    factorize_coarse(coarse_with_terms_);
     refactored_since_save_ = false;
   }
 }
@@ -200,7 +227,13 @@ void TwoLevelPreconditioner::solved(bool /*converged*/) {
 }
 
 void TwoLevelPreconditioner::add_terms_to_coarse(bool any) {
-  std::copy(coarse_.valuePtr(), coarse_.valuePtr() + coarse_.nonZeros(), coarse_with_terms_.valuePtr());
+  if (coarse_positions_.empty()) {  // the same pattern
+    std::copy(coarse_.valuePtr(), coarse_.valuePtr() + coarse_.nonZeros(), coarse_with_terms_.valuePtr());
+  } else {
+    std::fill(coarse_with_terms_.valuePtr(), coarse_with_terms_.valuePtr() + coarse_with_terms_.nonZeros(), 0.0);
+    for (Index k = 0; k < coarse_.nonZeros(); ++k)
+      coarse_with_terms_.valuePtr()[coarse_positions_[k]] = coarse_.valuePtr()[k];
+  }
   if (!any) return;
   add_terms(*terms_, nullptr);
   // The factor covers the last solve's terms too (those of nodes not in this one): a
@@ -218,35 +251,88 @@ void TwoLevelPreconditioner::add_terms(const DiagonalTerms& terms, const std::ve
   // aggregate (the coarse correction works in that frame, apply()).
   const std::vector<int>& aggregate = rotations_.aggregate_of_node();
   const bool rotated = rotations_.rotated();
-  const int* outer = coarse_with_terms_.outerIndexPtr();
-  const int* inner = coarse_with_terms_.innerIndexPtr();
-  double* values = coarse_with_terms_.valuePtr();
   for (size_t t = 0; t < terms.nodes.size(); ++t) {
     const Index i = terms.nodes[t];
     if (skip && (*skip)[i]) continue;
     const Mat3& rotation = rotations_.rotation(aggregate[i]);
     const Mat3 h = rotated ? Mat3(rotation.transpose() * terms.blocks[t] * rotation) : terms.blocks[t];
+    // (Aggregates a and b share node i, so P^T A P has their whole block.)
     for (int k1 = prolongator_.node_begin(i); k1 < prolongator_.node_end(i); ++k1) {
-      const int a = prolongator_.block_aggregate(k1), first_a = coarse_start_[a];
-      const int rank_a = coarse_start_[a + 1] - first_a;
       const Eigen::Matrix<double, 6, 3> left = prolongator_.block(k1).transpose() * h;
-      for (int k2 = prolongator_.node_begin(i); k2 < prolongator_.node_end(i); ++k2) {
-        const int b = prolongator_.block_aggregate(k2), first_b = coarse_start_[b];
-        const Eigen::Matrix<double, 6, 6> product = left * prolongator_.block(k2);
-        for (int c = 0; c < coarse_start_[b + 1] - first_b; ++c) {
-          const int col = first_b + c;
-          // Aggregates a and b share node i, so P^T A P has their whole block (a's coarse
-          // DOFs are consecutive rows of the column).
-          const int* row = std::lower_bound(inner + outer[col], inner + outer[col + 1], first_a);
-          for (int r = 0; r < rank_a; ++r, ++row) {
-            if (row == inner + outer[col + 1] || *row != first_a + r)
-              throw InvalidInput("two-level preconditioner: a contact term outside the coarse pattern");
-            values[row - inner] += product(r, c);
-          }
-        }
-      }
+      for (int k2 = prolongator_.node_begin(i); k2 < prolongator_.node_end(i); ++k2)
+        add_coarse_block(prolongator_.block_aggregate(k1), prolongator_.block_aggregate(k2),
+                         left * prolongator_.block(k2));
     }
   }
+}
+
+void TwoLevelPreconditioner::add_coarse_block(int a, int b, const Eigen::Matrix<double, 6, 6>& product) {
+  const int* outer = coarse_with_terms_.outerIndexPtr();
+  const int* inner = coarse_with_terms_.innerIndexPtr();
+  double* values = coarse_with_terms_.valuePtr();
+  const int first_a = coarse_start_[a], rank_a = coarse_start_[a + 1] - first_a, first_b = coarse_start_[b];
+  for (int c = 0; c < coarse_start_[b + 1] - first_b; ++c) {
+    const int col = first_b + c;  // (a's coarse DOFs are consecutive rows of the column)
+    const int* row = std::lower_bound(inner + outer[col], inner + outer[col + 1], first_a);
+    for (int r = 0; r < rank_a; ++r, ++row) {
+      if (row == inner + outer[col + 1] || *row != first_a + r)
+        throw InvalidInput("two-level preconditioner: a contact term outside the coarse pattern");
+      values[row - inner] += product(r, c);
+    }
+  }
+}
+
+void TwoLevelPreconditioner::coupled_aggregates(std::vector<std::pair<int, int>>& pairs) const {
+  pairs.clear();
+  coupling_->for_each_block([&](Index i, Index j, const Mat3&) {
+    for (int k1 = prolongator_.node_begin(i); k1 < prolongator_.node_end(i); ++k1)
+      for (int k2 = prolongator_.node_begin(j); k2 < prolongator_.node_end(j); ++k2)
+        pairs.emplace_back(prolongator_.block_aggregate(k1), prolongator_.block_aggregate(k2));
+  });
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+void TwoLevelPreconditioner::add_coupling() {
+  // P(x)^T C P(x), block by block: P_i^T R_a(i)^T B R_a(j) P_j for C's block B at nodes (i, j),
+  // each node in its own aggregate's turned frame (apply()).
+  const std::vector<int>& aggregate = rotations_.aggregate_of_node();
+  const bool rotated = rotations_.rotated();
+  coupling_->for_each_block([&](Index i, Index j, const Mat3& block) {
+    const Mat3 b = rotated
+                       ? Mat3(rotations_.rotation(aggregate[i]).transpose() * block * rotations_.rotation(aggregate[j]))
+                       : block;
+    for (int k1 = prolongator_.node_begin(i); k1 < prolongator_.node_end(i); ++k1) {
+      const Eigen::Matrix<double, 6, 3> left = prolongator_.block(k1).transpose() * b;
+      for (int k2 = prolongator_.node_begin(j); k2 < prolongator_.node_end(j); ++k2)
+        add_coarse_block(prolongator_.block_aggregate(k1), prolongator_.block_aggregate(k2),
+                         left * prolongator_.block(k2));
+    }
+  });
+}
+
+void TwoLevelPreconditioner::extend_coarse_pattern() {
+  // coarse_'s entries and every coupled pair's block, then where coarse_'s entries sit.
+  const int n = static_cast<int>(coarse_.cols());
+  std::vector<Eigen::Triplet<double, int>> entries;
+  entries.reserve(static_cast<size_t>(coarse_.nonZeros()) + 36 * coupled_pairs_.size());
+  for (int col = 0; col < n; ++col)
+    for (Eigen::SparseMatrix<double, Eigen::ColMajor, int>::InnerIterator it(coarse_, col); it; ++it)
+      entries.emplace_back(it.row(), col, 0.0);
+  for (const auto& [a, b] : coupled_pairs_)
+    for (int col = coarse_start_[b]; col < coarse_start_[b + 1]; ++col)
+      for (int row = coarse_start_[a]; row < coarse_start_[a + 1]; ++row) entries.emplace_back(row, col, 0.0);
+  coarse_with_terms_.resize(n, n);
+  coarse_with_terms_.setFromTriplets(entries.begin(), entries.end());
+  coarse_with_terms_.makeCompressed();
+  coarse_positions_.resize(static_cast<size_t>(coarse_.nonZeros()));
+  const int* outer = coarse_with_terms_.outerIndexPtr();
+  const int* inner = coarse_with_terms_.innerIndexPtr();
+  for (int col = 0; col < n; ++col)
+    for (int k = coarse_.outerIndexPtr()[col]; k < coarse_.outerIndexPtr()[col + 1]; ++k)
+      coarse_positions_[k] = static_cast<int>(
+          std::lower_bound(inner + outer[col], inner + outer[col + 1], coarse_.innerIndexPtr()[k]) - inner);
+  coarse_factor_.analyze(coarse_with_terms_);
 }
 
 void TwoLevelPreconditioner::set_positions(const Nodes& x) {
@@ -306,10 +392,20 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   z.resize(3 * n);
   float* z4 = z4_.data();
   const float* y4 = y4_.data();
-  // Node i's residual r - A z from the last product, and z_i written to both layouts.
+  // Node i's residual r - (A + C) z from the last product (C: the coupling between parts in
+  // contact, when there is one; its product is over the contacts alone), and z_i written to
+  // both layouts.
+  const bool coupled = coupling_ != nullptr;
+  auto couple = [&] {
+    if (!coupled) return;
+    coupled_product_.setZero(3 * n);
+    coupling_->multiply_add(z, coupled_product_);
+  };
   auto residual = [&](Index i) {
-    return Vec3(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
-                r[3 * i + 2] - unscale * y4[4 * i + 2]);
+    Vec3 res(r[3 * i] - unscale * y4[4 * i], r[3 * i + 1] - unscale * y4[4 * i + 1],
+             r[3 * i + 2] - unscale * y4[4 * i + 2]);
+    if (coupled) res -= coupled_product_.segment<3>(3 * i);
+    return res;
   };
   auto set_z = [&](Index i, const Vec3& zi) {
     z.segment<3>(3 * i) = zi;
@@ -319,6 +415,7 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
   COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) set_z(i, w * (diagonal_.inverse_block(i) * r.segment<3>(3 * i)));
   A_single_.multiply_padded(z4, y4_.data());
+  couple();
   // Coarse right-hand side P(x)^T (r - A z).
   COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) {
@@ -335,6 +432,7 @@ void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {
     set_z(i, z.segment<3>(3 * i) + (rotated ? Vec3(rotations_.rotation(aggregate[i]) * e) : e));
   }
   A_single_.multiply_padded(z4, y4_.data());
+  couple();
   // z += w D^-1 (r - A z).
   COROTATE_PARALLEL_FOR(n >= 512)
   for (Index i = 0; i < n; ++i) z.segment<3>(3 * i) += w * (diagonal_.inverse_block(i) * residual(i));

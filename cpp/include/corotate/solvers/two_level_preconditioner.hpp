@@ -33,6 +33,19 @@
 // the smoothed prolongator; the coarse matrix is refactorized (same pattern) only when
 // that pays (update_coarse_terms), since it is nearly dense. The hierarchy itself is built
 // without the first system's terms.
+//
+// Contact between parts. A node pressed on another part's triangle is a stiff spring between
+// the node and the triangle's corners: diagonal terms, which the coarse matrix takes as above,
+// and a coupling C between nodes that share no element (linear_solver.hpp SystemCoupling).
+// With the diagonal terms alone the coarse level held both parts to the ground where they
+// touch: two 6,000-tet cubes stacked on the floor took 193 CG iterations per step at rest
+// (bench/contact_step.py; 42 with the two changes below). So the coupling goes into the
+// coarse matrix too, P(x)^T C P(x):
+// blocks between aggregates of different parts, which P^T A0 P does not have. The coarse
+// pattern grows by the aggregate pairs the coupling needs (analysed afresh when a new pair
+// appears; kept, grown only, while the contacts come and go), and the coarse matrix is
+// refactorized as for the diagonal terms. And the cycle's residuals take the coupling's
+// product, r - (A + C) z: without it the smoothing passes treated the parts as apart.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -59,6 +72,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // ones it gets (the rest positions when it gets none); later ones turn its coarse level.
   void set_positions(const Nodes& x) override;
   void set_diagonal_terms(const DiagonalTerms* terms) override { terms_ = terms; }
+  void set_coupling(const SystemCoupling* coupling) override { coupling_ = coupling; }
   void solved(bool converged) override;
   void compute(const BlockSparseMatrix& A) override;
   void apply(const Vec& r, Vec& z) override;
@@ -94,6 +108,14 @@ class TwoLevelPreconditioner final : public Preconditioner {
   void add_terms_to_coarse(bool any);
   // coarse_with_terms_ += the terms through P, Galerkin (skip: nodes to leave out).
   void add_terms(const DiagonalTerms& terms, const std::vector<char>* skip);
+  // coarse_with_terms_ += P(x)^T C P(x) of the coupling.
+  void add_coupling();
+  // coarse_with_terms_ += the 6 x 6 block `product` at aggregates (a, b) (in its pattern).
+  void add_coarse_block(int a, int b, const Eigen::Matrix<double, 6, 6>& product);
+  // The aggregate pairs the coupling's blocks join (sorted, both orders) into pairs.
+  void coupled_aggregates(std::vector<std::pair<int, int>>& pairs) const;
+  // coarse_with_terms_'s pattern: coarse_'s and every pair's blocks; analysed for the factor.
+  void extend_coarse_pattern();
 
   Nodes rest_;
   Nodes positions_;             // the latest set_positions (empty: none given)
@@ -117,6 +139,12 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // solve's (the factor covers both), and what the factor cost since it was made.
   const DiagonalTerms* terms_ = nullptr;
   DiagonalTerms previous_terms_;
+  const SystemCoupling* coupling_ = nullptr;
+  // The aggregate pairs beyond coarse_'s pattern in coarse_with_terms_'s (sorted, both
+  // orders), where coarse_'s entries sit in it, and work space.
+  std::vector<std::pair<int, int>> coupled_pairs_, needed_pairs_;
+  std::vector<int> coarse_positions_;
+  Vec coupled_product_;  // apply()'s C z
   std::vector<int> coarse_start_;  // first coarse DOF of each aggregate, + 1
   std::vector<char> node_mark_;    // work space: the nodes of this solve's terms
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> coarse_with_terms_;
@@ -134,6 +162,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   } saved_;
   bool refactored_since_save_ = false;
   std::vector<double> saved_coarse_values_;
+  std::vector<std::pair<int, int>> saved_pairs_;  // coupled_pairs_ then
   int refactorizations_ = 0;
   // The cycle's iterate and its product, four entries per node, in float32 for the float32
   // product (the iterate itself is kept in double in z).
