@@ -99,7 +99,7 @@ class ContactMembers:
 
         if not isinstance(surface, EmbeddedSurface):
             raise TypeError(f"surface must be a corotate.EmbeddedSurface, not {type(surface).__name__}")
-        if surface._n_body_nodes != self._body.n_nodes and surface._scene_nodes is not None:
+        if surface._n_body_nodes != self._body.n_nodes and surface._scene is not None:
             raise ValueError(
                 "the surface is embedded in one body of a scene: a scene's bodies touch with their surface "
                 "nodes (contact between parts), not with a render surface's vertices"

@@ -23,6 +23,7 @@ import numpy as np
 
 import corotate._core as _core
 
+from ._scene_nodes import SceneNodes, body_rows
 from .body import Body
 from .mesh import VOLUME_CELL_TYPES, Mesh
 from .output import TimeSeriesWriter
@@ -169,10 +170,7 @@ class EmbeddedSurface:
         )
         self._positions = self._mesh.points.copy()
         self._normals = np.ascontiguousarray(self._core.rest_normals)
-        # Set by Scene.embedded_surface: the body's nodes within the scene's simulation (a
-        # contiguous range) and how many nodes that simulation has.
-        self._scene_nodes: slice | None = None
-        self._n_scene_nodes = 0
+        self._scene: SceneNodes | None = None  # set by Scene.embedded_surface
 
     @classmethod
     def from_file(
@@ -238,12 +236,7 @@ class EmbeddedSurface:
         if normals not in _NORMALS:
             raise ValueError(f"normals must be one of {_NORMALS}, got {normals!r}")
         x = getattr(state, "positions", state)
-        x = np.asarray(x, dtype=np.float64)
-        if self._scene_nodes is not None and x.shape == (self._n_scene_nodes, 3):
-            x = x[self._scene_nodes]  # (a view: the body's nodes are one range of the scene's)
-        if x.shape != (self._n_body_nodes, 3):
-            scene = f" or the scene's ({self._n_scene_nodes}, 3)" if self._scene_nodes is not None else ""
-            raise ValueError(f"body positions must have shape ({self._n_body_nodes}, 3){scene}, got {x.shape}")
+        x = body_rows(np.asarray(x, dtype=np.float64), self._n_body_nodes, self._scene, "body positions")
         if normals == "rotated":
             self._core.rotated_normals(x, self._normals)  # checks x before writing anything
         self._core.embed(x, self._positions)

@@ -24,6 +24,7 @@ import numpy as np
 
 import corotate._core as _core
 
+from ._scene_nodes import SceneNodes, body_rows
 from .body import Body
 from .choices import FEEDBACK_METHODS, FeedbackMethod, check_choice
 from .driven_body import DrivenBody
@@ -57,6 +58,7 @@ class HapticFeedback:
             raise ValueError("tool node indices must be integers")
         mesh = body.mesh
         self.body = body
+        self._scene: SceneNodes | None = None  # set by Scene.haptic_feedback
         self._core = _core.HapticFeedback(
             mesh.cell_type,
             mesh.points,
@@ -82,13 +84,12 @@ class HapticFeedback:
         return int(self._core.num_elements)
 
     def query(self, positions: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-        """At the body's positions (n, 3): (forces (k, 3), the force the body exerts on each
-        tool node, i.e. its internal elastic force there; stiffness (3k, 3k), dF/dx with
-        respect to the tool nodes' positions, DOF 3*a + axis)."""
-        x = np.ascontiguousarray(positions, dtype=np.float64)
-        if x.shape != (self.body.n_nodes, 3):
-            raise ValueError(f"positions must have shape ({self.body.n_nodes}, 3), got {x.shape}")
-        forces, stiffness = self._core.query(x)
+        """At the body's positions (n, 3) (for a scene's body, ``Scene.haptic_feedback``, also
+        the scene's): (forces (k, 3), the force the body exerts on each tool node, i.e. its
+        internal elastic force there; stiffness (3k, 3k), dF/dx with respect to the tool
+        nodes' positions, DOF 3*a + axis)."""
+        x = body_rows(np.asarray(positions, dtype=np.float64), self.body.n_nodes, self._scene, "positions")
+        forces, stiffness = self._core.query(np.ascontiguousarray(x))
         return np.asarray(forces), np.asarray(stiffness)
 
     def reaction_forces(self, sim: DrivenBody) -> np.ndarray:
@@ -96,11 +97,14 @@ class HapticFeedback:
         inertia included: f_int + f_ext + M g - (M a) on the tool's rows, with f_int from the
         tool's elements (this feedback's method), a the last step's acceleration and M the
         simulation's mass. In statics (a = 0) the supports' reactions; in dynamics, by momentum
-        balance, what holds the tool on its prescribed motion."""
-        if not isinstance(sim, DrivenBody) or sim.body is not self.body:
-            raise ValueError("sim must be a simulation of this feedback's body")
+        balance, what holds the tool on its prescribed motion. For a scene's body, `sim` is a
+        simulation of the scene."""
+        body = self.body if self._scene is None else self._scene.scene_body
+        if not isinstance(sim, DrivenBody) or sim.body is not body:
+            whose = " (its scene)" if self._scene is not None else ""
+            raise ValueError(f"sim must be a simulation of this feedback's body{whose}")
         forces, _ = self.query(sim.positions)
-        tool = self.tool
+        tool = self.tool + (self._scene.start if self._scene is not None else 0)  # the simulation's nodes
         dofs = (3 * tool[:, None] + np.arange(3)).ravel()
         inertia = (sim.mass_matrix()[dofs] @ sim.accelerations.ravel()).reshape(-1, 3)
         return forces + sim.external_forces[tool] + sim.gravity_forces[tool] - inertia

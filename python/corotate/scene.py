@@ -15,8 +15,10 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
+from ._scene_nodes import SceneNodes
 from .body import Body
 from .embedding import EmbeddedSurface
+from .feedback import HapticFeedback
 from .joined_body import JoinedBody, check_solid_bodies
 from .mesh import Mesh
 from .mesh_checks import _unchecked
@@ -27,7 +29,7 @@ if TYPE_CHECKING:
 
     from numpy.typing import ArrayLike
 
-    from .choices import ModelName
+    from .choices import FeedbackMethod, ModelName
 
 
 class Scene:
@@ -97,11 +99,24 @@ class Scene:
         its positions) and moves with body k's nodes. Each body of a scene, mixed cell types
         included, can carry its own. ValueError for a body out of range, or as
         EmbeddedSurface."""
-        nodes = self.nodes(k)
+        scene = self._scene_nodes(k)
         surface = EmbeddedSurface(self._bodies[k], vertices, triangles, max_outside_distance=max_outside_distance)
-        surface._scene_nodes = slice(int(nodes[0]), int(nodes[-1]) + 1)
-        surface._n_scene_nodes = int(self._offsets[-1])
+        surface._scene = scene
         return surface
+
+    def haptic_feedback(self, k: int, tool: ArrayLike, method: FeedbackMethod = "averaged") -> HapticFeedback:
+        """Force feedback at tool nodes of body k (``corotate.HapticFeedback`` of
+        ``scene.bodies[k]``, any cell type; `tool`: body k's own node indices or mask): its
+        ``query`` takes body k's positions or the scene's, and ``reaction_forces`` a simulation
+        of the scene. ValueError for a body out of range, or as HapticFeedback."""
+        scene = self._scene_nodes(k)
+        feedback = HapticFeedback(self._bodies[k], tool, method)
+        feedback._scene = scene
+        return feedback
+
+    def _scene_nodes(self, k: int) -> SceneNodes:
+        nodes = self.nodes(k)  # (checks k)
+        return SceneNodes(int(nodes[0]), int(nodes[-1]) + 1, int(self._offsets[-1]), self._body)
 
     def simulation(self, friction: float = 0.0, self_contact: bool = False, **settings: Any) -> Simulation:
         """A Simulation of the scene's bodies (settings: as ``cr.Simulation``'s: dt, solver,

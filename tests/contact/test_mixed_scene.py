@@ -204,3 +204,37 @@ def test_each_body_of_a_mixed_scene_carries_its_own_render_surface():
     np.testing.assert_array_equal(surfaces[0].positions, before)
     with pytest.raises(ValueError, match="one body of a scene"):
         sim.set_contact_surface(surfaces[0])
+
+
+def test_haptic_feedback_at_a_body_of_a_mixed_scene():
+    """Scene.haptic_feedback: the averaged-stiffness feedback at the clamped end of the hex
+    bar of a mixed scene answers from the scene's positions exactly as the same feedback of the
+    bar alone answers from its own nodes, and its reaction forces in the scene's simulation are
+    those of the bar simulated alone (to 1e-6: the two step the same to round-off)."""
+    bodies = three_cantilevers()[:2]
+    scene = cr.Scene(bodies)
+    settings = {"gravity": (0, 0, -9.81), "solver": cr.Direct(), "dt": 0.01}
+    sim = scene.simulation(**settings)
+    sim.fix(np.concatenate([scene.nodes(k, clamped(b.mesh)) for k, b in enumerate(bodies)]))
+    bar = bodies[1]
+    alone = cr.Simulation(bar, **settings)
+    alone.fix(clamped(bar.mesh))
+    sim.step(10)
+    alone.step(10)
+    tool = clamped(bar.mesh)
+    feedback = scene.haptic_feedback(1, tool)
+    own = cr.HapticFeedback(bar, tool)
+    np.testing.assert_array_equal(feedback.tool, tool)
+    for got, expected in zip(feedback.query(sim.positions), own.query(sim.positions[scene.nodes(1)])):
+        np.testing.assert_array_equal(got, expected)
+    for got, expected in zip(feedback.query(sim.positions[scene.nodes(1)]), own.query(sim.positions[scene.nodes(1)])):
+        np.testing.assert_array_equal(got, expected)
+    reaction = own.reaction_forces(alone)
+    assert np.abs(reaction[:, 2]).sum() > 1.0  # the clamp holds the bar up
+    np.testing.assert_allclose(feedback.reaction_forces(sim), reaction, rtol=0, atol=1e-6 * np.abs(reaction).max())
+    with pytest.raises(ValueError, match="its scene"):
+        feedback.reaction_forces(alone)
+    with pytest.raises(ValueError, match=r"\(36, 3\) or the scene's \(72, 3\)"):
+        feedback.query(np.zeros((4, 3)))
+    with pytest.raises(ValueError, match="body 5 is out of range"):
+        scene.haptic_feedback(5, tool)
