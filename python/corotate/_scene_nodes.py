@@ -5,9 +5,13 @@ and reads either the body's positions or the whole scene's."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .body import Body
+    from .joined_body import JoinedBody
 
 
 @dataclass(frozen=True)
@@ -18,7 +22,7 @@ class SceneNodes:
     start: int
     stop: int
     n_scene: int
-    scene_body: Any
+    scene_body: Body | JoinedBody
 
     def rows(self, x: np.ndarray) -> np.ndarray:
         """The body's rows of scene-wide (n_scene, ...) values: a view."""

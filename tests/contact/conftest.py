@@ -1,6 +1,7 @@
 """Shared scenes of the contact tests."""
 
 import numpy as np
+import pytest
 
 import corotate as cr
 
@@ -34,3 +35,23 @@ def check_contact_derivatives(sim, y, direction, h, internal=False):
     assert np.linalg.eigvalsh(hessian).min() > -1e-9 * np.abs(hessian).max()
     if internal:  # equal and opposite
         np.testing.assert_allclose(forces.sum(axis=0), 0.0, atol=1e-9 * np.abs(forces).max())
+
+
+def interrupted_step(sim, steps, after):
+    """sim.step(steps) interrupted by its progress callback (KeyboardInterrupt) after `after`
+    of them: the call fails, and the state (positions, velocities, time) and the contacts are
+    what they were before it."""
+    x, v, t = sim.positions.copy(), sim.velocities.copy(), sim.time
+    before = {k: value.copy() for k, value in sim.contacts.items()}
+
+    def interrupt(done, n):
+        if done == after:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sim.step(steps, progress=interrupt)
+    np.testing.assert_array_equal(sim.positions, x)
+    np.testing.assert_array_equal(sim.velocities, v)
+    assert sim.time == t
+    for key, value in sim.contacts.items():
+        np.testing.assert_array_equal(value, before[key])

@@ -6,7 +6,7 @@ import threading
 
 import numpy as np
 import pytest
-from conftest import cube
+from conftest import cube, interrupted_step
 
 import corotate as cr
 
@@ -76,20 +76,7 @@ def test_a_failed_step_restores_the_contacts_and_the_tool_motion():
     sim.add_obstacle(probe)
     sim.step(5)
     probe.move_to((-0.065, 0, 0.05))
-    before = {k: v.copy() for k, v in sim.contacts.items()}
-    x, v, t = sim.positions.copy(), sim.velocities.copy(), sim.time
-
-    def interrupt(done, n):
-        if done == 2:
-            raise KeyboardInterrupt
-
-    with pytest.raises(KeyboardInterrupt):
-        sim.step(3, progress=interrupt)
-    np.testing.assert_array_equal(sim.positions, x)
-    np.testing.assert_array_equal(sim.velocities, v)
-    assert sim.time == t
-    for key, value in sim.contacts.items():
-        np.testing.assert_array_equal(value, before[key])
+    interrupted_step(sim, 3, after=2)
     # The same step again gives what an uninterrupted run gives: the probe's motion (from
     # where the body last saw it) was restored too.
     sim.step(3)

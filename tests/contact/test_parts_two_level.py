@@ -5,7 +5,7 @@ product, so two stacked cubes at rest take a few tens of CG iterations per step 
 hundreds; and a failed step restores that pattern too."""
 
 import numpy as np
-import pytest
+from conftest import interrupted_step
 
 import corotate as cr
 
@@ -45,16 +45,7 @@ def test_a_failed_step_restores_the_coarse_coupling():
     give, to the bit, what an uninterrupted twin gives."""
     _, sim = stacked(cr.PCG(preconditioner="two_level"))
     sim.step(3)  # just before the landing
-    x, v = sim.positions.copy(), sim.velocities.copy()
-
-    def interrupt(done, n):
-        if done == 4:
-            raise KeyboardInterrupt
-
-    with pytest.raises(KeyboardInterrupt):
-        sim.step(6, progress=interrupt)
-    np.testing.assert_array_equal(sim.positions, x)
-    np.testing.assert_array_equal(sim.velocities, v)
+    interrupted_step(sim, 6, after=4)
     sim.step(6)
     _, twin = stacked(cr.PCG(preconditioner="two_level"))
     twin.step(9)
