@@ -24,17 +24,23 @@ constexpr double kConvergedStep = 1e-6;  // quadratic: the remaining error is ~1
 constexpr double kRoughStep = 1e-3;      // extract_rotations_roughly's: ~1e-6
 
 // W problems side by side, structure of arrays: A = F / |F| (row-major, a[3 i + j][lane]),
-// the quaternion (w, x, y, z) and the angle of the last step.
+// the quaternion (w, x, y, z) and the squared angle of the last step.
 template <int W>
 struct Lanes {
   double a[9][W];
   double q[4][W];
-  double angle[W];
+  double step2[W];
 };
 
+// Below this angle in every lane, an iteration's step needs no trust region and the
+// quaternion's normalisation a series instead of a square root and a division (the divider
+// is what an iteration waits for otherwise: five divisions and square roots per lane against
+// about 150 multiply-adds).
+constexpr double kSmallStep = 5e-2;
+
 // One iteration for every lane, branch-free so that the compiler vectorises it across lanes:
-// the W dependency chains (each a long serial chain of products, a division and two square
-// roots) then overlap instead of waiting on each other.
+// the W dependency chains (each a long serial chain of products and a division) then overlap
+// instead of waiting on each other.
 //
 // The polar rotation maximises tr(R^T F) over rotations. With R = exp([w]) R_c and
 // B = F R_c^T, that objective is, to second order in w,
@@ -48,6 +54,8 @@ struct Lanes {
 // which keeps the convergence quadratic without a sine or cosine.
 template <int W>
 COROTATE_CLONE_INLINE void newton_iteration(Lanes<W>& L) {
+  double w[3][W];
+  int small = 0;
   for (int l = 0; l < W; ++l) {
     const double qw = L.q[0][l], qx = L.q[1][l], qy = L.q[2][l], qz = L.q[3][l];
     // R(q), row-major.
@@ -75,21 +83,41 @@ COROTATE_CLONE_INLINE void newton_iteration(Lanes<W>& L) {
     const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
     const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
     const double det = h00 * c00 + h01 * c01 + h02 * c02;
-    // (Both reciprocals computed and bitwise & instead of &&: no branch in the loop.)
+    // (Bitwise & instead of &&, and one division of whichever denominator: no branch.)
     const bool newton = (h00 > 0) & (c22 > 0) & (det > 0);
-    const double newton_scale = 1 / det, mueller_scale = 1 / (std::abs(trace) + 1e-9);
-    const double inv = newton ? newton_scale : mueller_scale;
-    double wx = newton ? c00 * gx + c01 * gy + c02 * gz : gx;
-    double wy = newton ? c01 * gx + c11 * gy + c12 * gz : gy;
-    double wz = newton ? c02 * gx + c12 * gy + c22 * gz : gz;
-    wx *= inv, wy *= inv, wz *= inv;
-    const double angle = std::sqrt(wx * wx + wy * wy + wz * wz);
+    const double inv = 1 / (newton ? det : std::abs(trace) + 1e-9);
+    const double wx = (newton ? c00 * gx + c01 * gy + c02 * gz : gx) * inv;
+    const double wy = (newton ? c01 * gx + c11 * gy + c12 * gz : gy) * inv;
+    const double wz = (newton ? c02 * gx + c12 * gy + c22 * gz : gz) * inv;
+    w[0][l] = wx, w[1][l] = wy, w[2][l] = wz;
+    const double step2 = wx * wx + wy * wy + wz * wz;
+    L.step2[l] = step2;
+    small += step2 < kSmallStep * kSmallStep;  // (false for NaN)
+  }
+  if (small == W) {
+    // q <- (1, d) q with d = w / 2, normalised by the series of 1 / sqrt(1 + e), e = |q|^2 - 1
+    // <= |d|^2 + round-off <= 6.25e-4: its terms to e^4 leave 63/256 e^5 < 3e-17.
+    for (int l = 0; l < W; ++l) {
+      const double qw = L.q[0][l], qx = L.q[1][l], qy = L.q[2][l], qz = L.q[3][l];
+      const double dx = 0.5 * w[0][l], dy = 0.5 * w[1][l], dz = 0.5 * w[2][l];
+      const double nw = qw - (dx * qx + dy * qy + dz * qz);
+      const double nx = qx + dx * qw + (dy * qz - dz * qy);
+      const double ny = qy + dy * qw + (dz * qx - dx * qz);
+      const double nz = qz + dz * qw + (dx * qy - dy * qx);
+      const double e = (nw * nw + nx * nx + ny * ny + nz * nz) - 1;
+      const double s = 1 - e * (0.5 - e * (0.375 - e * (0.3125 - e * 0.2734375)));
+      L.q[0][l] = nw * s, L.q[1][l] = nx * s, L.q[2][l] = ny * s, L.q[3][l] = nz * s;
+    }
+    return;
+  }
+  for (int l = 0; l < W; ++l) {
     // Trust region: at most one radian per iteration. A non-finite step leaves q as it was
     // and reports an infinite angle (the caller then falls back to the SVD).
-    const bool finite = angle <= std::numeric_limits<double>::max();
-    const double limited = 0.5 / std::max(angle, 1.0);
-    const double half = finite ? limited : 0.0;
-    const double dx = half * wx, dy = half * wy, dz = half * wz;
+    const double step2 = L.step2[l];
+    const bool finite = step2 <= std::numeric_limits<double>::max();
+    const double half = finite ? 0.5 / std::max(std::sqrt(step2), 1.0) : 0.0;
+    const double qw = L.q[0][l], qx = L.q[1][l], qy = L.q[2][l], qz = L.q[3][l];
+    const double dx = half * w[0][l], dy = half * w[1][l], dz = half * w[2][l];
     // q <- (1, d) q, then normalised.
     const double nw = qw - (dx * qx + dy * qy + dz * qz);
     const double nx = qx + dx * qw + (dy * qz - dz * qy);
@@ -97,7 +125,7 @@ COROTATE_CLONE_INLINE void newton_iteration(Lanes<W>& L) {
     const double nz = qz + dz * qw + (dx * qy - dy * qx);
     const double s = 1 / std::sqrt(nw * nw + nx * nx + ny * ny + nz * nz);
     L.q[0][l] = nw * s, L.q[1][l] = nx * s, L.q[2][l] = ny * s, L.q[3][l] = nz * s;
-    L.angle[l] = finite ? angle : std::numeric_limits<double>::infinity();
+    L.step2[l] = finite ? step2 : std::numeric_limits<double>::infinity();
   }
 }
 
@@ -144,11 +172,12 @@ COROTATE_CLONE_INLINE Eigen::Quaterniond lane_quaternion(const Lanes<W>& L, int 
   return Eigen::Quaterniond(L.q[0][l], L.q[1][l], L.q[2][l], L.q[3][l]);
 }
 
-// The batched sweep's lockstep iterations: two are enough for a warm start that moved less
-// than ~1e-3 rad since the last call (a slowly turning body); up to kMaxLockstepIterations run
-// while a lane still moves (a body that turns fast: three reach ~0.03 rad), since one more
-// batched iteration costs about what one lane costs alone; the rest finish one by one.
-constexpr int kLockstepIterations = 2;
+// The batched sweep's lockstep iterations: one, then more while a lane still moves (two for a
+// warm start that moved less than ~1e-3 rad since the last call, a slowly turning body; one
+// for a batch at rest), up to kMaxLockstepIterations (a body that turns fast: three reach
+// ~0.03 rad), since one more batched iteration costs about what one lane costs alone; the
+// rest finish one by one.
+constexpr int kLockstepIterations = 1;
 constexpr int kMaxLockstepIterations = 4;
 // Sixteen lanes, all the sweep hands over at once (kRotationLanes): an iteration is a long
 // chain of dependent operations, so what bounds it is latency, and four vectors of lanes in
@@ -161,8 +190,9 @@ static_assert(kBatch >= kRotationLanes, "a sweep's batch of rotations fits one l
 template <int W>
 COROTATE_CLONE_INLINE bool any_lane_moving(const Lanes<W>& L, const bool* ok, int n, double converged) {
   bool moving = false;
+  const double converged2 = converged * converged;
   for (int l = 0; l < n; ++l)
-    moving |= ok[l] & (L.angle[l] >= converged) & (L.angle[l] <= std::numeric_limits<double>::max());
+    moving |= ok[l] & (L.step2[l] >= converged2) & (L.step2[l] <= std::numeric_limits<double>::max());
   return moving;
 }
 
@@ -183,9 +213,9 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
   if (!ok) return q.toRotationMatrix();
   for (int it = 0; it < kMaxIterations; ++it) {
     newton_iteration(L);
-    if (!(L.angle[0] <= std::numeric_limits<double>::max())) break;
+    if (!(L.step2[0] <= std::numeric_limits<double>::max())) break;
     q = lane_quaternion(L, 0);
-    if (L.angle[0] < kConvergedStep) return q.toRotationMatrix();
+    if (L.step2[0] < kConvergedStep * kConvergedStep) return q.toRotationMatrix();
   }
   const Mat3 R = polar_rotation_svd(F);
   q = Eigen::Quaterniond(R);
@@ -217,11 +247,11 @@ COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* 
         double rk[9];
         for (int c = 0; c < 9; ++c) rk[c] = R(c / 3, c % 3);
         store(k, rk, 1);
-      } else if (L.angle[l] < accuracy.converged) {
+      } else if (L.step2[l] < accuracy.converged * accuracy.converged) {
         q[k] = lane_quaternion(L, l);
         store(k, &r[0][l], kBatch);
       } else {  // not there yet (a large rotation since the last call, or no finite step)
-        if (L.angle[l] <= std::numeric_limits<double>::max()) q[k] = lane_quaternion(L, l);
+        if (L.step2[l] <= std::numeric_limits<double>::max()) q[k] = lane_quaternion(L, l);
         fallback(k);
       }
     }
