@@ -217,6 +217,29 @@ TEST(block_cholesky_refactorizes_a_matrix_of_the_same_pattern_numerically) {
   CHECK(relative_residual(other.A, x, b) < 1e-5);
 }
 
+TEST(block_cholesky_prices_a_refactorization_in_solves) {
+  // Column k's c_k off-diagonal blocks: c_k (c_k + 1) / 2 products of 27 multiply-adds to
+  // factorize, 2 x 9 per block to solve. A chain of nodes (one block below each diagonal
+  // block, whatever the order AMD picks): 27 / 18 = 1.5. Four nodes all coupled (columns of 3,
+  // 2, 1 and 0 blocks): 27 * 10 / (18 * 6) = 2.5.
+  const auto spd = [](BlockSparseMatrix A) {
+    for (Index i = 0; i < A.num_nodes(); ++i)
+      for (int e = A.row_start()[i]; e < A.row_start()[i + 1]; ++e)
+        A.block(e) = A.columns()[e] == i ? Mat3(10 * Mat3::Identity()) : Mat3(-Mat3::Identity());
+    return A;
+  };
+  BlockCholesky chain, dense;
+  chain.factorize(spd(BlockSparseMatrix::from_pairs(
+      6, {{0, 1}, {1, 0}, {1, 2}, {2, 1}, {2, 3}, {3, 2}, {3, 4}, {4, 3}, {4, 5}, {5, 4}})));
+  std::vector<std::pair<int, int>> all;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (i != j) all.emplace_back(i, j);
+  dense.factorize(spd(BlockSparseMatrix::from_pairs(4, all)));
+  CHECK_NEAR(chain.refactorization_cost_in_solves(), 1.5, 1e-12);
+  CHECK_NEAR(dense.refactorization_cost_in_solves(), 2.5, 1e-12);
+}
+
 TEST(block_cholesky_turned_solve_is_the_rotated_solve) {
   // solve(b, x, turn) = R A^-1 R^T b, R = diag(turn[i]): one rotation per node.
   const Problem p;
@@ -819,14 +842,18 @@ TEST(reference_factor_refactorizes_for_contacts_only_when_it_pays) {
   CHECK(pc.factorizations() == 2);  // ...which the next solve makes
   for (int k = 0; k < 20; ++k) solve(on_floor, &p.floor, 3);
   CHECK(pc.factorizations() == 2);  // the same contacts, as cheap as the first solve
-  // Contacts elsewhere whose solves cost more (25 applications against 3) refactorize once
-  // the excess adds up to kRefreshExcessApplies.
+  // Contacts elsewhere whose solves cost more (5 applications against 3: an excess of one
+  // each beyond the slack of one) refactorize once the excess adds up to what a
+  // refactorization costs, and not before.
   int solves = 0;
   while (pc.factorizations() == 2 && solves < 50) {
-    solve(on_side, &p.side, 25);
+    solve(on_side, &p.side, 5);
     ++solves;
   }
   std::printf("  refactorized after %d solves with other contacts\n", solves);
   CHECK(pc.factorizations() == 3);
-  CHECK(solves == 3);
+  const double threshold = ReferenceFactorPreconditioner::kRefreshCostScale * pc.factor_cost_in_solves();
+  std::printf("  refresh threshold %.2f applications\n", threshold);
+  CHECK(threshold > 2);  // (the count below is not trivially 2 or 3)
+  CHECK(solves == 1 + static_cast<int>(std::ceil(threshold)));
 }

@@ -254,6 +254,16 @@ void BlockCholesky::solve(const Vec& b, Vec& x, const Mat3* turn) {
   for (Index k = 0; k < n; ++k) write_out(x, order_[k], Eigen::Map<const Vec3>(w + 3 * k), turn);
 }
 
+double BlockCholesky::refactorization_cost_in_solves() const {
+  double products = 0, blocks = 0;
+  for (size_t k = 0; k + 1 < column_start_.size(); ++k) {
+    const double c = column_start_[k + 1] - column_start_[k];
+    products += 0.5 * c * (c + 1);
+    blocks += c;
+  }
+  return blocks > 0 ? (27 * products) / (18 * blocks) : 0.0;
+}
+
 COROTATE_CPU_CLONES void BlockCholesky::solve_single(const Vec& b, Vec& x, const Mat3* turn) {
   using V = Four<float>::type;
   const auto store4 = [](float* p, V v) { std::memcpy(p, &v, sizeof v); };

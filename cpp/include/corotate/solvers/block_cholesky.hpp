@@ -45,6 +45,11 @@ class BlockCholesky {
   // anyway (relative 1e-7 of a solve that aims at 1e-2).
   void solve_single(const Vec& b, Vec& x, const Mat3* turn = nullptr);
   Index factor_blocks() const { return static_cast<Index>(rows_.size()); }
+  // What a numeric refactorization costs in solves, from the structure: column k's c_k
+  // off-diagonal blocks take c_k (c_k + 1) / 2 block products (27 multiply-adds each) to
+  // factorize, and a solve reads each block twice (9 each). For a preconditioner deciding
+  // whether a fresh factor pays.
+  double refactorization_cost_in_solves() const;
   // The elimination order: order()[k] is the node eliminated k-th.
   const std::vector<int>& order() const { return order_; }
   // Whether it was arranged for latency (a small factor).

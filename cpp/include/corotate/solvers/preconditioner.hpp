@@ -125,16 +125,23 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   // - when contacts first appear (diagonal terms, the springs of obstacles, in a system whose
   //   factor has none; or a coupling, contact between parts, that the factor leaves out);
   // - while contacts are in the system or in the factor, when the applications beyond the
-  //   fewest since the last factorization (plus one per solve) add up to
-  //   kRefreshExcessApplies, about what a factorization costs: a landing, a body lifted off,
-  //   contacts moved elsewhere.
+  //   fewest since the last factorization (plus one per solve) add up to what a numeric
+  //   refactorization costs (kRefreshCostScale): a landing, a body lifted off, contacts
+  //   moved elsewhere. (A fixed 40 before: Table 1's cage dropped on the floor ran 3-5
+  //   iterations per step for 20-30 steps at a time where a fresh factor gives one.)
   // The contacts' diagonal blocks are in A already; a factor of A takes them in.
   void solved(bool converged) override;
   void set_diagonal_terms(const DiagonalTerms* terms) override { terms_ = terms; }
   // The next factorization is of A + C (coupled_matrix.hpp) while a coupling is set: a factor
   // of A alone leaves CG one iteration per contact between parts to find.
   void set_coupling(const SystemCoupling* coupling) override { coupling_ = coupling; }
-  static constexpr int kRefreshExcessApplies = 40;
+  // A refresh's price in CG iterations: the factor's flop count in solves
+  // (BlockCholesky::refactorization_cost_in_solves) times this. On Table 1's cage dropped on
+  // the floor a numeric refactorization took the time of 22 solves, about 15 iterations (a
+  // solve and a product each), where the flop count says 9.7 solves.
+  static constexpr double kRefreshCostScale = 1.5;
+  // The factor's BlockCholesky::refactorization_cost_in_solves.
+  double factor_cost_in_solves() const { return factor_.refactorization_cost_in_solves(); }
   // Only to factorize (the first system, or after a capped solve).
   bool needs_lower_blocks() const override { return factor_.empty() || refresh_; }
   // A float32 copy of each system for CG's products (when CG multiplies in float32), as the
@@ -174,6 +181,7 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   bool factor_contacts_ = false;  // the factor's system had contacts (terms or coupling)
   int applies_ = 0;               // in the current solve
   int fewest_ = 0, excess_ = 0;   // applications per solve since the factorization (solved())
+  double refresh_threshold_ = 0;  // the excess that pays for a refresh (kRefreshCostScale)
   bool contacts_now() const { return coupling_ || (terms_ && !terms_->empty()); }
   NodeRotations rotations_;  // empty until positions arrive at the build
   Nodes positions_;
