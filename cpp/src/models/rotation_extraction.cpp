@@ -134,10 +134,17 @@ COROTATE_CLONE_INLINE void newton_iteration(Lanes<W>& L) {
 // F(k, i, j): entry (i, j) of problem k.
 template <int W, class FEntry>
 COROTATE_CLONE_INLINE void load_lanes(Lanes<W>& L, bool* ok, const FEntry& F, const Eigen::Quaterniond* q, int n) {
+  if (n == W) {  // (a full batch: plain copies, vectorised where F is laid out by lanes)
+    for (int c = 0; c < 9; ++c)
+      for (int l = 0; l < W; ++l) L.a[c][l] = F(l, c / 3, c % 3);
+  } else {
+    for (int l = 0; l < W; ++l) {
+      const int k = l < n ? l : 0;  // lanes past n repeat the first problem
+      for (int c = 0; c < 9; ++c) L.a[c][l] = F(k, c / 3, c % 3);
+    }
+  }
   for (int l = 0; l < W; ++l) {
-    const int k = l < n ? l : 0;  // lanes past n repeat the first problem
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) L.a[3 * i + j][l] = F(k, i, j);
+    const int k = l < n ? l : 0;
     L.q[0][l] = q[k].w(), L.q[1][l] = q[k].x(), L.q[2][l] = q[k].y(), L.q[3][l] = q[k].z();
   }
   double scale[W];
@@ -184,7 +191,7 @@ constexpr int kMaxLockstepIterations = 4;
 // flight hide more of it than two (8 -> 16 lanes: 34.6 -> 26.5 ns per element in
 // `--scenario rotations`; neither fewer divisions nor 512-bit vectors changed anything).
 constexpr int kBatch = 16;
-static_assert(kBatch >= kRotationLanes, "a sweep's batch of rotations fits one lockstep batch");
+static_assert(kBatch == kRotationLanes, "a sweep's batch of rotations is one lockstep batch, stored lane for lane");
 
 // Whether a lane of the first n still moves (a finite last step of `converged` or more).
 template <int W>
@@ -225,11 +232,13 @@ Mat3 extract_rotation(const Mat3& F, Eigen::Quaterniond& q) {
 namespace {
 
 // The batched iterations on problems [0, count), kBatch at a time. F(k, i, j) reads entry
-// (i, j) of problem k, store(k, r) takes its rotation as nine row-major values (r[9], any
-// stride via the lambda), fallback(k) solves problem k alone (those that did not converge).
-template <class FEntry, class Store, class Fallback>
+// (i, j) of problem k, store(k, r, stride) takes its rotation as nine row-major values
+// r[c * stride], store_batch(first, r) a whole batch's that all converged (r[9][kBatch]),
+// fallback(k) solves problem k alone (those that did not converge).
+template <class FEntry, class Store, class StoreBatch, class Fallback>
 COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* q, const Store& store,
-                                           const Fallback& fallback, int count, Accuracy accuracy = kRoundOff) {
+                                           const StoreBatch& store_batch, const Fallback& fallback, int count,
+                                           Accuracy accuracy = kRoundOff) {
   for (int first = 0; first < count; first += kBatch) {
     const int n = std::min(kBatch, count - first);
     Lanes<kBatch> L;
@@ -240,6 +249,14 @@ COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* 
     for (; it < kMaxLockstepIterations && any_lane_moving(L, ok, n, accuracy.converged); ++it) newton_iteration(L);
     double r[9][kBatch];
     lane_rotations(L, r);
+    const double converged2 = accuracy.converged * accuracy.converged;
+    int done = 0;
+    for (int l = 0; l < kBatch; ++l) done += ok[l] & (L.step2[l] < converged2);
+    if (done == kBatch && n == kBatch) {  // the usual case
+      for (int l = 0; l < kBatch; ++l) q[first + l] = lane_quaternion(L, l);
+      store_batch(first, r);
+      continue;
+    }
     for (int l = 0; l < n; ++l) {
       const int k = first + l;
       if (!ok[l]) {
@@ -247,7 +264,7 @@ COROTATE_CLONE_INLINE void extract_batches(const FEntry& F, Eigen::Quaterniond* 
         double rk[9];
         for (int c = 0; c < 9; ++c) rk[c] = R(c / 3, c % 3);
         store(k, rk, 1);
-      } else if (L.step2[l] < accuracy.converged * accuracy.converged) {
+      } else if (L.step2[l] < converged2) {
         q[k] = lane_quaternion(L, l);
         store(k, &r[0][l], kBatch);
       } else {  // not there yet (a large rotation since the last call, or no finite step)
@@ -269,6 +286,10 @@ COROTATE_CLONE_INLINE void extract_matrices(const Mat3* F, Eigen::Quaterniond* q
                   [R](int k, const double* r, int stride) {
                     for (int c = 0; c < 9; ++c) R[k](c / 3, c % 3) = r[c * stride];
                   },
+                  [R](int first, const double (&r)[9][kBatch]) {
+                    for (int l = 0; l < kBatch; ++l)
+                      for (int c = 0; c < 9; ++c) R[first + l](c / 3, c % 3) = r[c][l];
+                  },
                   [&](int k) { R[k] = extract_rotation(F[k], q[k]); }, count, accuracy);
 }
 
@@ -287,6 +308,10 @@ COROTATE_CPU_CLONES void extract_rotations(const double (&F)[3][3][kRotationLane
   extract_batches([&F](int k, int i, int j) { return F[i][j][k]; }, q,
                   [&R](int k, const double* r, int stride) {
                     for (int c = 0; c < 9; ++c) R[c / 3][c % 3][k] = r[c * stride];
+                  },
+                  [&R](int, const double (&r)[9][kBatch]) {  // (the same layout: plain copies)
+                    for (int c = 0; c < 9; ++c)
+                      for (int l = 0; l < kBatch; ++l) R[c / 3][c % 3][l] = r[c][l];
                   },
                   [&](int k) {
                     Mat3 Fk, Rk;
