@@ -134,6 +134,19 @@ namespace {
 // How near the surface counts as touching for a path from a to b.
 double touch_tolerance(const Vec3& a, const Vec3& b) { return 1e-3 * (b - a).norm() + 1e-12; }
 
+// Whether a node at x with velocity v surely makes no new contact with a part in this step:
+// consider() takes the part's surface where the step ends and the node's path from x, moved
+// by the surface's velocity near it (at most dt |mean velocity| + spread), to its free
+// flight's end b; a contact needs the path to start no farther from the surface than its
+// length (first_touch). The surface lies inside its vertices' box, so a start farther from
+// the box than the longest such path, with room for the touch tolerance, is out of reach:
+// no nearest-point query for bodies apart.
+bool out_of_part_reach(const Vec3& x, const Vec3& v, const PartSurface& part, const Vec3& gravity, double dt) {
+  const double shift = dt * part.mean_velocity.norm() + part.spread;
+  const double path = (dt * v + dt * dt * gravity).norm() + shift;
+  return part.end_box.exteriorDistance(x) > 1.01 * (path + shift) + 1e-9;
+}
+
 double first_touch(const Obstacle& obstacle, const Vec3& a, const Vec3& b, double distance_at_a) {
   const double length = (b - a).norm();
   const double tolerance = touch_tolerance(a, b);
@@ -542,11 +555,13 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
       part.mesh->move_owned_vertices(part.ends, part.velocities);
       part.mean_velocity = part.velocities.rowwise().mean();
       part.spread = dt * (part.velocities.colwise() - part.mean_velocity).colwise().norm().maxCoeff();
+      part.end_box = Eigen::AlignedBox3d(part.ends.rowwise().minCoeff(), part.ends.rowwise().maxCoeff());
     }
     const Pose identity;
     for (Index i : nodes_)
       for (int p = 0; p < static_cast<int>(parts_.size()); ++p)
-        if (p != part_of_node_[i])
+        if (p != part_of_node_[i] &&
+            !(out_of_part_reach(x.col(i), v.col(i), parts_[p], gravity, dt) && carried(i, -1 - p) == 0))
           consider(i, x.col(i), v.col(i), *parts_[p].mesh, -1 - p, identity, identity, part_friction_, x, gravity, dt,
                    carried, &parts_[p]);
     if (has_self_contact())

@@ -142,6 +142,7 @@ struct PartSurface {
   Vec3 mean_velocity = Vec3::Zero();  // of the vertices over the step, and dt times the
   double spread = 0;                  // largest speed relative to it (self-contact's reach)
   Scratch<Nodes> normals;             // the triangles' unit normals at ends (edge contact)
+  Eigen::AlignedBox3d end_box;        // of the vertices at ends
 };
 
 // Contact points other than the nodes (see above): per_point nodes and weights per point.
