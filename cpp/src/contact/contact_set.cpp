@@ -325,6 +325,11 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
   const double reach =
       depth + dt * dt * gravity.norm() + 1.5 * (dt * (v.col(i) - part.mean_velocity).norm() + part.spread);
   part.mesh->triangles_near(b, reach, candidates_.value);
+  // The node's own neighbourhood (the nodes it shares an element with), marked for O(1) tests.
+  std::vector<int>& neighbour = neighbour_stamp_.value;
+  const int stamp = static_cast<int>(i) + 1;
+  for (int k = neighbourhoods_->row_start()[i]; k < neighbourhoods_->row_start()[i + 1]; ++k)
+    neighbour[neighbourhoods_->columns()[k]] = stamp;
   struct Touch {
     int triangle = -1;
     double t = 2;  // where along the path; 1 for a carried contact's nearest triangle
@@ -338,7 +343,7 @@ void ContactSet::consider_self(Index i, const Nodes& x, const Nodes& v, const Ve
     bool near_node = false;
     for (int k = 0; k < 3; ++k) {
       corner[k] = part.nodes[tri[k]];
-      near_node = near_node || neighbourhoods_->block_index(i, corner[k]) >= 0;
+      near_node = near_node || neighbour[corner[k]] == stamp;
     }
     if (near_node) continue;
     const Vec3 e0 = part.ends.col(tri[0]), e1 = part.ends.col(tri[1]), e2 = part.ends.col(tri[2]);
@@ -570,9 +575,11 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
             !(out_of_part_reach(x.col(i), v.col(i), parts_[p], gravity, dt) && carried(i, -1 - p) == 0))
           consider(i, x.col(i), v.col(i), *parts_[p].mesh, -1 - p, identity, identity, part_friction_, x, gravity, dt,
                    carried, &parts_[p]);
-    if (has_self_contact())
+    if (has_self_contact()) {
+      neighbour_stamp_.value.assign(static_cast<size_t>(x.cols()), 0);  // (consider_self's)
       for (Index i : nodes_)
         if (vertex_of_node_[i] >= 0) consider_self(i, x, v, gravity, dt, carried);
+    }
     if (settings_.edge_contact) {
       std::vector<std::pair<Index, double>>& edge_multipliers = carried_edges_.value;
       edge_multipliers.clear();
