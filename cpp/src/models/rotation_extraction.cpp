@@ -189,7 +189,8 @@ constexpr int kMaxLockstepIterations = 4;
 // Sixteen lanes, all the sweep hands over at once (kRotationLanes): an iteration is a long
 // chain of dependent operations, so what bounds it is latency, and four vectors of lanes in
 // flight hide more of it than two (8 -> 16 lanes: 34.6 -> 26.5 ns per element in
-// `--scenario rotations`; neither fewer divisions nor 512-bit vectors changed anything).
+// `--scenario rotations`; 512-bit vectors changed nothing). Fewer divisions did pay once the
+// rest was lean (kSmallStep; docs/notes/performance.md).
 constexpr int kBatch = 16;
 static_assert(kBatch == kRotationLanes, "a sweep's batch of rotations is one lockstep batch, stored lane for lane");
 
