@@ -16,6 +16,8 @@ dropped onto the floor in real time.
    contact guide's two soft cubes (384 tets each, a Scene) stacked off-centre on the floor,
    300 steps, with and without edge-against-edge contact in turns: ms per step and CG
    iterations; and the same pair at 12,000 tets (two-level PCG), landing and at rest.
+   What detection costs where nothing touches: the clamped beam alone, the same beam and a
+   1,920-tet beam 2 m apart in one Scene, and the beam alone with self-contact on.
 4. Table 1's cage (studies/table1_dog.py: the armadillo's boundary tetrahedralized at about
    700 tets; needs the [mesh] extra, else skipped) dropped 5 cm onto the floor against the
    same cage hanging from its anchor, Table 1's row (a) scene, and dropped with its render
@@ -192,6 +194,42 @@ def stacked_cubes(repeats: int) -> None:
         print(f"  {phase}: {s['ms_per_step']:.1f} ms/step, {s['iterations_per_step']:.1f} CG iterations")
 
 
+def detection_cost(steps: int, repeats: int) -> None:
+    """The 15,360-tet beam clamped at x = 0: alone, with a 1,920-tet beam 2 m beside it in one
+    Scene (contact between bodies detected, none made), and alone with self-contact on, in
+    turns: ms per step (median, process time) after a first step."""
+    material = cr.Material(E=1e7, nu=0.3, density=1000.0)
+    beam = cr.Body(cr.beam(5, 1, 1, cells=(40, 8, 8)), material)
+    beside = cr.Body(cr.box((5, 1, 1), (20, 4, 4), origin=(0, 3, 0)), material)
+    scene = cr.Scene([beam, beside])
+
+    def clamped(k: int, body: cr.Body) -> np.ndarray:
+        return scene.nodes(k, body.mesh.nodes_where(lambda p: p[:, 0] < 1e-9))
+
+    def simulation(kind: str) -> cr.Simulation:
+        if kind == "two beams apart in a Scene":
+            sim = scene.simulation(gravity=(0, 0, -9.81))
+            sim.fix(np.concatenate([clamped(0, beam), clamped(1, beside)]))
+            return sim
+        sim = cr.Simulation(beam, gravity=(0, 0, -9.81))
+        sim.fix(beam.mesh.nodes_where(lambda p: p[:, 0] < 1e-9))
+        if kind == "self-contact on":
+            sim.set_part_contact(self_contact=True)
+        return sim
+
+    runs: dict[str, list[float]] = {"alone": [], "two beams apart in a Scene": [], "self-contact on": []}
+    for _ in range(repeats):
+        for kind in runs:
+            sim = simulation(kind)
+            sim.step()
+            t0 = time.process_time()
+            sim.step(steps)
+            runs[kind].append(1e3 * (time.process_time() - t0) / steps)
+    print(f"detection where nothing touches, the {beam.mesh.n_cells}-tet beam clamped, {steps} steps x {repeats}:")
+    for kind, times in runs.items():
+        print(f"  {kind:28s} {np.median(times):.2f} ms/step")
+
+
 def feedback_query(repeats: int) -> None:
     """Microseconds per ToolFeedback.query from Python (the haptic loop's call)."""
     mesh = cr.box((0.1, 0.1, 0.1), (8, 8, 8))
@@ -234,6 +272,7 @@ def main() -> None:
     print(describe_machine())
     feedback_query(args.repeats)
     stacked_cubes(args.repeats)
+    detection_cost(args.steps, args.repeats)
     beam_runs(args.steps, args.repeats)
     armadillo_drop(data, args.seconds)
     cage_drop(data, args.repeats, Path(args.cache))

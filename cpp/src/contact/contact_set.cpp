@@ -412,10 +412,8 @@ void ContactSet::consider_edges(int p, int q, const Nodes& x, const Nodes& v, co
   const Vec3 other_low = other.ends.rowwise().minCoeff(), other_high = other.ends.rowwise().maxCoeff();
   std::vector<int>& near = candidate_edges_.value;
   const std::vector<char>& touching = touching_.value;
-  std::vector<int>& neighbour_stamp = neighbour_stamp_.value;
+  std::vector<int>& neighbour_stamp = neighbour_stamp_.value;  // (sized by detect)
   std::vector<int>& edge_stamp = edge_stamp_.value;
-  neighbour_stamp.assign(static_cast<size_t>(x.cols()), 0);
-  edge_stamp.assign(static_cast<size_t>(other_edges.size()), 0);
   for (int e1 = 0; e1 < edges.size(); ++e1) {
     const int va = edges.vertices[e1][0], vb = edges.vertices[e1][1];
     const Index a = mine.nodes[va], b = mine.nodes[vb];
@@ -433,23 +431,26 @@ void ContactSet::consider_edges(int p, int q, const Nodes& x, const Nodes& v, co
     const Vec3 m1 = mine.normals.value.col(edges.faces[e1][0]), m2 = mine.normals.value.col(edges.faces[e1][1]);
     // The other surface's edges of the triangles near this edge, each once.
     other.mesh->triangles_near(0.5 * (A + B), 0.5 * (B - A).norm() + reach, candidates_.value);
-    const int stamp = e1 + 1;
+    // Stamps unique to this edge in the whole step: its index among all parts' edges (+ 1),
+    // negated for nodes (consider_self stamps them with node + 1).
+    const int stamp = static_cast<int>(edge_offset_[p]) + e1 + 1;
+    const int* other_stamp = edge_stamp.data() + edge_offset_[q];
     near.clear();
     for (int t : candidates_.value)
       for (int e2 : other_edges.of_triangle[t])
-        if ((!self || e2 > e1) && edge_stamp[e2] != stamp) {
-          edge_stamp[e2] = stamp;
+        if ((!self || e2 > e1) && other_stamp[e2] != stamp) {
+          edge_stamp[edge_offset_[q] + e2] = stamp;
           near.push_back(e2);
         }
     if (self)  // the edge's own neighbourhood: the nodes that share an element with a or b
       for (Index i : {a, b})
         for (int k = neighbourhoods_->row_start()[i]; k < neighbourhoods_->row_start()[i + 1]; ++k)
-          neighbour_stamp[neighbourhoods_->columns()[k]] = stamp;
+          neighbour_stamp[neighbourhoods_->columns()[k]] = -stamp;
     for (int e2 : near) {
       const int vc = other_edges.vertices[e2][0], vd = other_edges.vertices[e2][1];
       const Index c = other.nodes[vc], d = other.nodes[vd];
       // Within one part, away from the edge's own neighbourhood.
-      if (self && (neighbour_stamp[c] == stamp || neighbour_stamp[d] == stamp)) continue;
+      if (self && (neighbour_stamp[c] == -stamp || neighbour_stamp[d] == -stamp)) continue;
       // Where a node of either edge touches a surface already, its contact holds the pair
       // apart there (a face resting on a face: the rims cross at the same height, and a second
       // constraint on the same spot only makes the two fight).
@@ -575,11 +576,13 @@ void ContactSet::detect(const std::vector<ObstacleLink>& links, const std::vecto
             !(out_of_part_reach(x.col(i), v.col(i), parts_[p], gravity, dt) && carried(i, -1 - p) == 0))
           consider(i, x.col(i), v.col(i), *parts_[p].mesh, -1 - p, identity, identity, part_friction_, x, gravity, dt,
                    carried, &parts_[p]);
-    if (has_self_contact()) {
-      neighbour_stamp_.value.assign(static_cast<size_t>(x.cols()), 0);  // (consider_self's)
+    // The stamps of consider_self and consider_edges, cleared once per step (no allocation
+    // after the first).
+    if (has_self_contact()) neighbour_stamp_.value.assign(static_cast<size_t>(x.cols()), 0);
+    if (settings_.edge_contact) edge_stamp_.value.assign(static_cast<size_t>(num_edges_), 0);
+    if (has_self_contact())
       for (Index i : nodes_)
         if (vertex_of_node_[i] >= 0) consider_self(i, x, v, gravity, dt, carried);
-    }
     if (settings_.edge_contact) {
       std::vector<std::pair<Index, double>>& edge_multipliers = carried_edges_.value;
       edge_multipliers.clear();

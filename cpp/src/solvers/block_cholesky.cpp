@@ -92,6 +92,7 @@ void BlockCholesky::factorize(const BlockSparseMatrix& A, size_t latency_bound_b
   arranged_ = 9 * rows_.size() * sizeof(float) <= latency_bound_bytes;
   if (arranged_) arrange_for_latency();
   index_by_rows();
+  refactorization_cost_ = structure_cost_in_solves();
   position_.resize(n);
   for (Index k = 0; k < n; ++k) position_[order_[k]] = static_cast<int>(k);
   work_.resize(3 * n);
@@ -254,7 +255,7 @@ void BlockCholesky::solve(const Vec& b, Vec& x, const Mat3* turn) {
   for (Index k = 0; k < n; ++k) write_out(x, order_[k], Eigen::Map<const Vec3>(w + 3 * k), turn);
 }
 
-double BlockCholesky::refactorization_cost_in_solves() const {
+double BlockCholesky::structure_cost_in_solves() const {
   double products = 0, blocks = 0;
   for (size_t k = 0; k + 1 < column_start_.size(); ++k) {
     const double c = column_start_[k + 1] - column_start_[k];

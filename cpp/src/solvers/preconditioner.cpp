@@ -79,7 +79,7 @@ void ReferenceFactorPreconditioner::solved(bool converged) {
     if ((coupling_ && !factor_coupled_) || (contacts_now() && !factor_contacts_)) refresh_ = true;
     fewest_ = std::min(fewest_, applies_);
     excess_ += std::max(0, applies_ - fewest_ - 1);
-    if (excess_ >= refresh_threshold_) refresh_ = true;
+    if (excess_ >= kRefreshCostScale * factor_.refactorization_cost_in_solves()) refresh_ = true;
   }
   applies_ = 0;
 }
@@ -131,7 +131,6 @@ void ReferenceFactorPreconditioner::compute(const BlockSparseMatrix& A) {
     if (coupling_) factor_.factorize(with_coupling(A, *coupling_));
     else factor_.factorize(A);
     ++factorizations_;
-    refresh_threshold_ = kRefreshCostScale * factor_.refactorization_cost_in_solves();
     // Built at the positions A was assembled at: rotations are measured from there.
     if (positions_.cols() != 0) rotations_.build(A, positions_);
   } else {

@@ -351,10 +351,10 @@ class ContactSet final : public SystemCoupling {
   const BlockSparseMatrix* neighbourhoods_ = nullptr;  // the model's pattern; null: no self-contact
   Scratch<std::vector<int>> candidates_;                    // self-contact's range query
   Scratch<std::vector<int>> candidate_edges_;               // edge contact's
-  // Per node and per edge: the last edge (its index + 1 in the loop of consider_edges) or
-  // node (its index + 1, consider_self) whose neighbourhood holds the node, and the last edge
-  // that listed the edge as a candidate: O(1) tests instead of a search of the pattern per
-  // pair and a sort per edge.
+  // Per node and per edge (of all parts): the last node (its index + 1, consider_self) or
+  // edge (minus its index among all parts' edges + 1, consider_edges) whose neighbourhood
+  // holds the node, and the last edge that listed the edge as a candidate: O(1) tests instead
+  // of a search of the pattern per pair and a sort per edge. Cleared once per step (detect).
   Scratch<std::vector<int>> neighbour_stamp_, edge_stamp_;
   Scratch<std::vector<char>> touching_;                     // per node: in a part's contact
   Scratch<std::vector<std::pair<Index, double>>> carried_edges_;  // (key, multiplier), sorted

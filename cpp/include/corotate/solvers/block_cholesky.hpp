@@ -48,8 +48,8 @@ class BlockCholesky {
   // What a numeric refactorization costs in solves, from the structure: column k's c_k
   // off-diagonal blocks take c_k (c_k + 1) / 2 block products (27 multiply-adds each) to
   // factorize, and a solve reads each block twice (9 each). For a preconditioner deciding
-  // whether a fresh factor pays.
-  double refactorization_cost_in_solves() const;
+  // whether a fresh factor pays. (Of the structure: computed when it is.)
+  double refactorization_cost_in_solves() const { return refactorization_cost_; }
   // The elimination order: order()[k] is the node eliminated k-th.
   const std::vector<int>& order() const { return order_; }
   // Whether it was arranged for latency (a small factor).
@@ -62,6 +62,8 @@ class BlockCholesky {
   // The off-diagonal blocks indexed by rows (row_start_, row_columns_, row_block_).
   void index_by_rows();
   bool same_pattern(const BlockSparseMatrix& A, size_t latency_bound_bytes) const;
+  double structure_cost_in_solves() const;  // refactorization_cost_in_solves, from column_start_
+  double refactorization_cost_ = 0;
   // A's blocks into the kept structure: a left-looking block Cholesky in double precision.
   void refactorize_numerically(const BlockSparseMatrix& A);
   // Packs the float32 copies (blocks_ from factor_, row_blocks_, inverse_diagonal_single_).

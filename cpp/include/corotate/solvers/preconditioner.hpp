@@ -181,7 +181,6 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   bool factor_contacts_ = false;  // the factor's system had contacts (terms or coupling)
   int applies_ = 0;               // in the current solve
   int fewest_ = 0, excess_ = 0;   // applications per solve since the factorization (solved())
-  double refresh_threshold_ = 0;  // the excess that pays for a refresh (kRefreshCostScale)
   bool contacts_now() const { return coupling_ || (terms_ && !terms_->empty()); }
   NodeRotations rotations_;  // empty until positions arrive at the build
   Nodes positions_;
