@@ -31,20 +31,21 @@ def _clamped(body, **kw):
 
 # --- settings take effect or refuse ------------------------------------------------------
 def test_assigning_a_solver_takes_effect():
+    # (Every step assembles: which steps keep a matrix depends on the run's history.)
     body = _body()
-    switched = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"))
+    switched = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"), matrix_reuse_angle=0.0)
     switched.step(2)
     switched.solver = cr.Direct()
     assert switched.solver == cr.Direct()
-    reference = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"))
+    reference = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"), matrix_reuse_angle=0.0)
     reference.step(2)
-    direct = _clamped(body, solver=cr.Direct())
+    direct = _clamped(body, solver=cr.Direct(), matrix_reuse_angle=0.0)
     direct._sim.positions[:] = reference.positions  # same start, then direct solves
     direct._sim.velocities[:] = reference.velocities
     switched.step(3)
     direct.step(3)
     np.testing.assert_allclose(switched.positions, direct.positions, rtol=0, atol=1e-12)
-    capped = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"))
+    capped = _clamped(body, solver=cr.PCG(max_iterations=1, preconditioner="none"), matrix_reuse_angle=0.0)
     capped._sim.positions[:] = reference.positions
     capped._sim.velocities[:] = reference.velocities
     capped.step(3)

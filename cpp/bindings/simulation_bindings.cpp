@@ -58,6 +58,8 @@ py::dict stats_dict(const SimulationStats& st) {
   d["iterations"] = st.last.solve.iterations;
   d["newton_iterations"] = st.last.newton_iterations;
   d["contact_passes"] = st.last.contact_passes;
+  d["kept_matrix"] = st.last.kept_matrix;
+  d["kept_matrix_steps"] = st.kept_matrix_steps;
   d["newton_residuals"] = st.last.newton_residuals;
   d["residual"] = st.last.solve.relative_residual;
   d["converged"] = st.last.solve.converged;
@@ -126,7 +128,7 @@ void bind_simulation(py::module_& m) {
   py::class_<IntegratorSettings>(m, "IntegratorSettings")
       .def(py::init([](const std::string& integrator, double time_step, double mass_damping, double stiffness_damping,
                        bool lumped_mass, int newton_iterations, double newton_tolerance, const std::string& policy,
-                       const std::string& on_unstable, double safety) {
+                       const std::string& on_unstable, double safety, double matrix_reuse_angle) {
              IntegratorSettings s{integrator_from_name(integrator),
                                   time_step,
                                   mass_damping,
@@ -136,7 +138,8 @@ void bind_simulation(py::module_& m) {
                                   newton_tolerance,
                                   time_step_policy_from_name(policy),
                                   on_unstable_from_name(on_unstable),
-                                  safety};
+                                  safety,
+                                  matrix_reuse_angle};
              s.validate();
              return s;
            }),
@@ -147,7 +150,7 @@ void bind_simulation(py::module_& m) {
            py::arg("newton_tolerance") = defaults.newton_tolerance,
            py::arg("policy") = std::string(time_step_policy_name(defaults.policy)),
            py::arg("on_unstable") = std::string(on_unstable_name(defaults.on_unstable)),
-           py::arg("safety") = defaults.safety,
+           py::arg("safety") = defaults.safety, py::arg("matrix_reuse_angle") = defaults.matrix_reuse_angle,
            "Settings of every integrator (each reads what applies to it); see integrators/integrator.hpp.")
       .def_property_readonly("integrator", [](const IntegratorSettings& s) { return integrator_name(s.kind); })
       .def_property_readonly("is_explicit", [](const IntegratorSettings& s) { return is_explicit(s.kind); })
@@ -159,7 +162,8 @@ void bind_simulation(py::module_& m) {
       .def_readonly("newton_tolerance", &IntegratorSettings::newton_tolerance)
       .def_property_readonly("policy", [](const IntegratorSettings& s) { return time_step_policy_name(s.policy); })
       .def_property_readonly("on_unstable", [](const IntegratorSettings& s) { return on_unstable_name(s.on_unstable); })
-      .def_readonly("safety", &IntegratorSettings::safety);
+      .def_readonly("safety", &IntegratorSettings::safety)
+      .def_readonly("matrix_reuse_angle", &IntegratorSettings::matrix_reuse_angle);
 
   py::class_<Simulation>(m, "Simulation")
       .def(py::init([](const ForceModel& model, const IntegratorSettings& settings, const std::string& solver,

@@ -540,6 +540,7 @@ void Simulation::step(int n, const std::function<void(int done)>& after_each_ste
       ++stats_.steps;
       stats_.substeps += st.substeps;
       stats_.total_iterations += st.solve.iterations;
+      stats_.kept_matrix_steps += st.kept_matrix;
       stats_.simulated_time += st.dt;
       stats_.last = std::move(st);
       record_estimates();

@@ -314,7 +314,7 @@ class OnUnstable:
     def value(self) -> int:
         ...
 class IntegratorSettings:
-    def __init__(self, integrator: str = 'linearized', time_step: typing.SupportsFloat | typing.SupportsIndex = 0.01, mass_damping: typing.SupportsFloat | typing.SupportsIndex = 0.0, stiffness_damping: typing.SupportsFloat | typing.SupportsIndex = 0.0, lumped_mass: bool = False, newton_iterations: typing.SupportsInt | typing.SupportsIndex = 20, newton_tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06, policy: str = 'fixed', on_unstable: str = 'substep', safety: typing.SupportsFloat | typing.SupportsIndex = 0.9) -> None:
+    def __init__(self, integrator: str = 'linearized', time_step: typing.SupportsFloat | typing.SupportsIndex = 0.01, mass_damping: typing.SupportsFloat | typing.SupportsIndex = 0.0, stiffness_damping: typing.SupportsFloat | typing.SupportsIndex = 0.0, lumped_mass: bool = False, newton_iterations: typing.SupportsInt | typing.SupportsIndex = 20, newton_tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06, policy: str = 'fixed', on_unstable: str = 'substep', safety: typing.SupportsFloat | typing.SupportsIndex = 0.9, matrix_reuse_angle: typing.SupportsFloat | typing.SupportsIndex = 0.03) -> None:
         """
         Settings of every integrator (each reads what applies to it); see integrators/integrator.hpp.
         """
@@ -329,6 +329,9 @@ class IntegratorSettings:
         ...
     @property
     def mass_damping(self) -> float:
+        ...
+    @property
+    def matrix_reuse_angle(self) -> float:
         ...
     @property
     def newton_iterations(self) -> int:

@@ -40,6 +40,11 @@ class Simulation(ContactMembers, DrivenBody):
                 with a backtracking line search until the gradient is below newton_tolerance
                 (relative to the loads and momentum); beta must be 0 then.
     newton_iterations, newton_tolerance   limits of the "newton" integrator (20, 1e-6)
+    matrix_reuse_angle   "linearized": the step keeps an earlier step's system matrix while
+                no element has turned by more than this angle [rad] since it was assembled
+                (default 0.03; the forces always use the current rotations, so a body comes
+                to the same rest; at most 0.5; 0 assembles at every step, as the paper does).
+                stats["kept_matrix_steps"] counts the steps that kept it.
 
     The derivations: cpp/include/corotate/integrators/implicit_integrator.hpp.
 
@@ -65,6 +70,7 @@ class Simulation(ContactMembers, DrivenBody):
         integrator: ImplicitIntegratorName = "linearized",
         newton_iterations: int = _DEFAULTS.newton_iterations,
         newton_tolerance: float = _DEFAULTS.newton_tolerance,
+        matrix_reuse_angle: float = _DEFAULTS.matrix_reuse_angle,
         on_failure: FailurePolicy = "warn",
     ) -> None:
         if not isinstance(body, (Body, JoinedBody)):
@@ -85,6 +91,7 @@ class Simulation(ContactMembers, DrivenBody):
             lumped_mass=mass == "lumped",
             newton_iterations=int(newton_iterations),
             newton_tolerance=float(newton_tolerance),
+            matrix_reuse_angle=real_number(matrix_reuse_angle, "matrix_reuse_angle"),
         )
         kind, pcg = solver._args()
         self._sim = _core.Simulation(body._force_model, settings, kind, pcg)
@@ -114,6 +121,7 @@ class Simulation(ContactMembers, DrivenBody):
             policy=s.policy,
             on_unstable=s.on_unstable,
             safety=s.safety,
+            matrix_reuse_angle=s.matrix_reuse_angle,
         )
 
     @property

@@ -146,6 +146,57 @@ TEST(batched_sweep_equals_separate_force_and_stiffness_requests) {
     }
 }
 
+TEST(a_sweep_without_stiffness_measures_how_far_the_frames_turned) {
+  // 36 tets: batches of 16, 16 and 4. A sweep that assembles records the frames; later
+  // sweeps without stiffness give the same forces as the full sweep and the largest angle an
+  // element turned since: for a rigid turn by theta, theta itself.
+  const auto mesh = fixtures::tet_beam(3, 2, 1);
+  auto model = make_model("corotational", "tetra", mesh.points, mesh.cells, kMaterial);
+  CHECK(model->measures_frame_drift());
+  Nodes x = mesh.points;
+  for (Index i = 0; i < x.cols(); ++i) x.col(i) += 0.03 * Vec3(uniform(), uniform(), uniform());
+  auto sweep = [&](const Nodes& at, bool assemble, Nodes& f) {
+    Request what;
+    what.forces = true;
+    what.forces_at = &at;
+    what.energy = true;
+    what.frame_drift = true;
+    what.stiffness = assemble ? StiffnessKind::Model : StiffnessKind::None;
+    BlockSparseMatrix K = model->pattern();
+    K.set_zero();
+    f.setZero(3, at.cols());
+    Results out;
+    out.forces = &f;
+    if (assemble) out.stiffness = &K;
+    model->evaluate(at, what, out);
+    return out;
+  };
+  Nodes f, f_ref;
+  CHECK(std::isinf(sweep(x, false, f).frame_drift));  // no frames recorded yet
+  sweep(x, true, f);
+  CHECK(sweep(x, false, f).frame_drift <= 1e-7);  // (the angle of a quaternion dot of 1 - 1e-16)
+  for (const double theta : {0.01, 0.05, 0.3}) {
+    const Mat3 R = Eigen::AngleAxisd(theta, Vec3(1, -2, 3).normalized()).toRotationMatrix();
+    const Nodes turned = R * x;
+    const Results kept = sweep(turned, false, f);
+    CHECK_NEAR(kept.frame_drift, theta, 1e-7);
+    // The forces of the full sweep (which then records these frames), to round-off.
+    const Results full = sweep(turned, true, f_ref);
+    CHECK((f - f_ref).norm() <= 1e-13 * f_ref.norm());
+    CHECK_NEAR(kept.energy, full.energy, 1e-13 * full.energy);
+    CHECK(sweep(turned, false, f).frame_drift <= 1e-7);
+    sweep(x, true, f);  // back: the next turn is measured from x
+  }
+  // One element turned alone: the largest angle is its own.
+  Nodes one = x;
+  const Mat3 R = Eigen::AngleAxisd(0.2, Vec3(0, 0, 1)).toRotationMatrix();
+  const Connectivity& cells = dynamic_cast<const AssembledModel<Kernel>&>(*model).cells();
+  const Vec3 centre = 0.25 * (x.col(cells(0, 0)) + x.col(cells(0, 1)) + x.col(cells(0, 2)) + x.col(cells(0, 3)));
+  for (int a = 0; a < 4; ++a) one.col(cells(0, a)) = centre + R * (x.col(cells(0, a)) - centre);
+  const double drift = sweep(one, false, f).frame_drift;
+  CHECK(drift >= 0.2 - 1e-7 && drift < 0.3);  // (its neighbours are sheared, less turned)
+}
+
 TEST(product_block_sweep_assembles_exactly_what_the_symmetric_product_reads) {
   // 1,519 nodes (two row chunks), numbered at random: pairs whose local order is the
   // reverse of their global one, and pairs across the chunks, in every batch.

@@ -1,5 +1,9 @@
 // The simulation and its integrator seam: one definition of fixed nodes for every
 // integrator, and a transactional step that restores everything, warm starts included.
+#include <limits>
+#include <string>
+
+#include "corotate/integrators/kept_system.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/simulation.hpp"
 #include "corotate/solvers/pcg.hpp"
@@ -27,10 +31,12 @@ class FlakySolver final : public LinearSolver {
   PCG inner_;
 };
 
-std::unique_ptr<Simulation> beam(IntegratorKind kind, std::unique_ptr<LinearSolver> solver = nullptr) {
+std::unique_ptr<Simulation> beam(IntegratorKind kind, std::unique_ptr<LinearSolver> solver = nullptr,
+                                 double matrix_reuse_angle = IntegratorSettings{}.matrix_reuse_angle) {
   const auto mesh = fixtures::tet_beam(4, 1, 1);
   IntegratorSettings settings;
   settings.kind = kind;
+  settings.matrix_reuse_angle = matrix_reuse_angle;
   settings.time_step = is_explicit(kind) ? 1e-3 : 1e-2;
   auto sim = std::make_unique<Simulation>(make_model("corotational", "tetra", mesh.points, mesh.cells, kMaterial),
                                           settings, std::move(solver));
@@ -58,8 +64,9 @@ TEST(fixed_nodes_keep_their_velocity_under_every_integrator) {
 TEST(a_failed_step_restores_everything_including_the_warm_start) {
   auto a_solver = std::make_unique<FlakySolver>();
   FlakySolver* flaky = a_solver.get();
-  auto a = beam(IntegratorKind::Linearized, std::move(a_solver));
-  auto b = beam(IntegratorKind::Linearized, std::make_unique<FlakySolver>());
+  // (Every step assembles its matrix: a kept one is not part of the restored state, below.)
+  auto a = beam(IntegratorKind::Linearized, std::move(a_solver), 0.0);
+  auto b = beam(IntegratorKind::Linearized, std::make_unique<FlakySolver>(), 0.0);
   a->step(3);
   b->step(3);
   const Nodes x = a->positions(), v = a->velocities();
@@ -83,6 +90,66 @@ TEST(a_failed_step_restores_everything_including_the_warm_start) {
   b->step(1);
   CHECK(a->positions() == b->positions());
   CHECK(a->velocities() == b->velocities());
+}
+
+TEST(the_kept_matrix_is_rebuilt_before_its_drift_reaches_the_angle) {
+  // The control alone (kept_system.hpp): a body turning 0.012 rad per step beyond its parts'
+  // rotation, angle 0.05.
+  KeptSystem kept;
+  KeptSystem::Key key;
+  CHECK(!kept.may_keep(key, 0.05));  // nothing assembled
+  kept.assembled(key, std::numeric_limits<double>::infinity());
+  CHECK(!kept.may_keep(key, 0.05));  // the first assembly knows no rate: the next assembles too
+  kept.assembled(key, 0.012);        // the turn since, in one step
+  std::string pattern;
+  double drift = 0;
+  for (int step = 0; step < 12; ++step) {
+    if (kept.may_keep(key, 0.05)) {
+      drift += 0.012;
+      kept.measured(drift);
+      pattern += 'K';
+    } else {
+      kept.assembled(key, drift + 0.012);
+      drift = 0;
+      pattern += 'A';
+    }
+  }
+  // Kept at 0.012, 0.024, 0.036, 0.048: the fifth would start at 0.06.
+  CHECK(pattern == "KKKKAKKKKAKK");
+  // Another key (solver, target, mass, springs, model), angle 0, or forget(): assemble.
+  KeptSystem::Key other = key;
+  other.attachments_stiffness = 1;
+  CHECK(kept.may_keep(key, 0.05) && !kept.may_keep(other, 0.05) && !kept.may_keep(key, 0.0));
+  kept.forget();
+  CHECK(!kept.may_keep(key, 0.05));
+  // A drift that stops growing keeps the matrix; one that jumps is predicted from its jump.
+  kept.assembled(key, 0.0);
+  kept.measured(0.03);
+  CHECK(!kept.may_keep(key, 0.05));  // 0.03 + 0.03
+  kept.assembled(key, 0.0);
+  kept.measured(0.01);
+  kept.measured(0.01);
+  CHECK(kept.may_keep(key, 0.05));
+}
+
+TEST(a_failed_step_forgets_the_kept_matrix) {
+  // A failed step may have assembled part of a new matrix: the next one assembles afresh
+  // where its twin keeps its matrix, and the two differ only by the kept matrix's lag.
+  auto a_solver = std::make_unique<FlakySolver>();
+  FlakySolver* flaky = a_solver.get();
+  auto a = beam(IntegratorKind::Linearized, std::move(a_solver));
+  auto b = beam(IntegratorKind::Linearized, std::make_unique<FlakySolver>());
+  a->step(3);
+  b->step(3);
+  CHECK(a->stats().kept_matrix_steps == 1 && b->stats().kept_matrix_steps == 1);  // (the first two assemble)
+  flaky->fail_at = flaky->calls + 1;
+  CHECK_THROWS(a->step(1), SolverFailure);
+  a->step(1);
+  b->step(1);
+  CHECK(!a->stats().last.kept_matrix && b->stats().last.kept_matrix);
+  const Nodes& rest = a->model().rest_positions();
+  const double moved = (b->positions() - rest).norm(), apart = (a->positions() - b->positions()).norm();
+  CHECK(apart > 0 && apart <= 1e-3 * moved);
 }
 
 TEST(settings_are_validated_before_anything_changes) {

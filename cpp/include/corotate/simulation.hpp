@@ -50,6 +50,7 @@ struct SimulationStats {
   long long steps = 0;            // steps taken since the last reset_stats
   long long substeps = 0;         // explicit substeps in those steps (= steps for implicit ones)
   long long total_iterations = 0; // CG iterations
+  long long kept_matrix_steps = 0; // linearised steps that kept an earlier step's matrix
   long long estimates = 0;        // explicit: stability estimates
   double simulated_time = 0;      // seconds of simulated time in those steps
   double wall_ms = 0;             // milliseconds of wall time the step calls took (callbacks excluded)

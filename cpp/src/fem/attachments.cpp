@@ -58,6 +58,7 @@ void Attachments::attach(const std::vector<Index>& nodes, const Nodes& targets, 
     stiffness_[slot_[i]] = stiffness[a];
   }
   ++version_;
+  ++stiffness_version_;
 }
 
 void Attachments::move(const std::vector<Index>& nodes, const Nodes& targets) {
@@ -82,6 +83,7 @@ void Attachments::detach(const std::vector<Index>& nodes) {
   targets_.conservativeResize(3, size());
   stiffness_.conservativeResize(size());
   ++version_;
+  ++stiffness_version_;
 }
 
 void Attachments::clear() {
@@ -90,6 +92,7 @@ void Attachments::clear() {
   targets_.resize(3, 0);
   stiffness_.resize(0);
   ++version_;
+  ++stiffness_version_;
 }
 
 void Attachments::add_forces(const Nodes& x, Nodes& f) const {

@@ -8,6 +8,10 @@ void ImplicitIntegrator::attach(ForceModel& model) {
   mass_ = model.mass_matrix(settings().lumped_mass);
   static std::atomic<std::uint64_t> versions{0};
   mass_version_ = ++versions;
+  kept_.forget();
+  kept_turn_ = AggregateRotations();
+  body_parts_.clear();
+  num_body_parts_ = 0;
   system_ = model.pattern();
   const Index n = model.num_nodes();
   force_.setZero(3, n);

@@ -12,6 +12,17 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// v_i <- R v_i (or R^T v_i) for every node i, R the rotation of the node's part.
+void turn_nodes(const AggregateRotations& parts, bool transpose, Vec& v) {
+  const std::vector<int>& part = parts.aggregate_of_node();
+  for (size_t i = 0; i < part.size(); ++i) {
+    const Mat3& R = parts.rotation(part[i]);
+    auto vi = v.segment<3>(3 * static_cast<Index>(i));
+    const Vec3 turned = transpose ? Vec3(R.transpose() * vi) : Vec3(R * vi);
+    vi = turned;
+  }
+}
+
 class LinearizedImplicitEuler final : public ImplicitIntegrator {
   // Solves after the first one, when contacts release. A fine embedded surface's many points
   // on a coarse element rocking on the floor needed more than 4 (the points the last pass
@@ -51,26 +62,58 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       SinglePrecisionSymmetric* single =
           in.model.assembles_single_precision() ? in.solver.single_precision_target() : nullptr;
       const bool lower_blocks = !single && in.solver.needs_lower_blocks();
-      if (single) single->start_assembly(mass_, 1 + dt * alpha, mass_version_);
-      else system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
+      // Keep last step's matrix while the elements turned little since (kept_system.hpp).
+      const bool track = in.model.measures_frame_drift() && !in.has_contacts();
+      KeptSystem::Key key;
+      if (track)
+        key = {&in.solver,
+               single ? static_cast<const void*>(single) : &system_,
+               single ? single->layout_id() : 0,
+               mass_version_,
+               in.attachments.stiffness_version(),
+               &in.model};
+      const bool keep = track && pass == 0 && kept_.may_keep(key, settings().matrix_reuse_angle);
+      // Each part's turn since the matrix was assembled: the turn of a kept matrix (below), and
+      // what the drift is measured beyond.
+      const bool turned = track && in.model.stiffness_turns() && !kept_turn_.empty() &&
+                          body_parts_.size() == static_cast<size_t>(in.x.cols());
+      if (turned) {
+        kept_turn_.update(in.x);
+        part_turns_.resize(num_body_parts_);
+        for (int p = 0; p < num_body_parts_; ++p) part_turns_[p] = Eigen::Quaterniond(kept_turn_.rotation(p));
+      }
+      if (!keep) {
+        kept_.forget();  // until the matrix is whole again
+        if (single) single->start_assembly(mass_, 1 + dt * alpha, mass_version_);
+        else system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
+      }
       Request what;
       what.lower_blocks = lower_blocks;
       what.forces = true;
       what.energy = in.diagnose;  // at x, in the same sweep: for the simulation's run-away checks
       what.count_inverted = in.diagnose;
       what.forces_at = &y_;
-      what.stiffness = StiffnessKind::Model;
+      what.stiffness = keep ? StiffnessKind::None : StiffnessKind::Model;
       what.stiffness_scale = dt * dt + dt * beta;
+      what.frame_drift = track;
+      if (turned) {
+        what.frame_turn = part_turns_.data();
+        what.frame_turn_of_node = body_parts_.data();
+      }
       Results out;
       out.forces = &force_;
-      if (single) out.single_stiffness = single;
-      else out.stiffness = &system_;
+      if (!keep && single) out.single_stiffness = single;
+      else if (!keep) out.stiffness = &system_;
       in.model.evaluate(in.x, what, out);
+      if (keep) {
+        kept_.measured(out.frame_drift);
+        stats.kept_matrix = true;
+      }
       // The attachment springs are linear: their force at y is their linearisation, and their
       // stiffness goes into A like the body's (damped by beta with it).
       in.attachments.add_forces(y_, force_);
-      if (single) in.attachments.add_stiffness(what.stiffness_scale, *single);
-      else in.attachments.add_stiffness(what.stiffness_scale, system_);
+      if (!keep && single) in.attachments.add_stiffness(what.stiffness_scale, *single);
+      else if (!keep) in.attachments.add_stiffness(what.stiffness_scale, system_);
       // Contacts likewise (undamped by beta), linearised where each node's free flight ends:
       // a node at rest above the floor touches it only under the step's gravity. The
       // friction's Hessian times dt^2 is its damping dt dF/dv on the new velocity.
@@ -84,14 +127,15 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
         mass_.multiply(as_dofs(in.v), work_);
         rhs_ -= (dt * alpha) * work_;
       }
-      if (single) in.fixed.project(*single);
-      else in.fixed.project(system_);
+      if (!keep && single) in.fixed.project(*single);
+      else if (!keep) in.fixed.project(system_);
       in.fixed.project(rhs_);
       stats.assembly_ms = ms_since(t_start);
 
       // dv_ still holds the previous step's answer: the warm start. A is assembled at x.
       const auto t_solve = clock::now();
-      in.solver.set_positions(in.x);
+      // The preconditioner follows the frames the matrix was assembled in.
+      if (!keep) in.solver.set_positions(in.x);
       // Where the active set decides from the answer (an impact, a re-solve), the usual loose
       // tolerance would decide by noise (and a capped solve at an impact inverted elements).
       if (in.has_contacts() && (pass > 0 || in.contacts->has_impacts()))
@@ -99,6 +143,16 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       // Contacts between parts of the body couple nodes outside the pattern: the solve adds them.
       const CouplingScope coupling(in.solver, in.has_contacts() && in.contacts->has_coupling() ? in.contacts : nullptr,
                                    in.has_contacts() ? &in.contacts->diagonal_terms() : nullptr);
+      // A kept matrix is the system of the configuration it was assembled at: turned by the
+      // rotation of each part of the body (each connected body) since, R A R^T, whose solve
+      // is R A^-1 R^T (R orthogonal). Without the turn a body swinging as a whole (Table 1's
+      // cage on its anchor) met the kept stiffness against its rigid rotation and strayed 19 %
+      // from its path; one rotation per node instead of per part broke the conservation of
+      // momentum (a part's translation is no longer in the turned matrix's null space).
+      if (keep && turned) {
+        turn_nodes(kept_turn_, true, rhs_);
+        turn_nodes(kept_turn_, true, dv_);
+      }
       try {
         stats.solve = single ? in.solver.solve_single_precision(rhs_, dv_) : in.solver.solve(system_, rhs_, dv_);
       } catch (const NotPositiveDefinite& e) {
@@ -110,8 +164,17 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
                                   "inverted elements): the step is too large for its linearisation; use a smaller dt "
                                   "with Body(..., project_psd=True), which keeps the system positive definite");
       }
+      if (keep && turned) turn_nodes(kept_turn_, false, dv_);
       in.fixed.project(dv_);
       stats.solve_ms = ms_since(t_solve);
+      if (track && !keep) {
+        if (in.model.stiffness_turns()) {
+          if (body_parts_.size() != static_cast<size_t>(in.x.cols()))
+            body_parts_ = connected_parts(in.model.pattern(), &num_body_parts_);
+          kept_turn_.build(body_parts_, num_body_parts_, in.x);
+        }
+        kept_.assembled(key, out.frame_drift);
+      }
 
       as_dofs(v_new) = as_dofs(in.v) + dv_;
       as_dofs(x_new) = as_dofs(in.x) + dt * as_dofs(v_new);

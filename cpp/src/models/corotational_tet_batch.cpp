@@ -59,13 +59,6 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
   const auto& volume = in.elements->volume;
   const auto& lambda = in.elements->lambda;
   const auto& mu = in.elements->mu;
-  // Rotated gradients a_i = R g_i.
-  alignas(64) double a[4][3][B];
-  for (int i = 0; i < 4; ++i)
-    for (int r = 0; r < 3; ++r)
-      for (int b = 0; b < B; ++b)
-        a[i][r][b] = in.R[r][0][b] * G[i][0][b] + in.R[r][1][b] * G[i][1][b] + in.R[r][2][b] * G[i][2][b];
-
   // Forces: F = y G, strain = sym(R^T F) - I, sigma = 2 mu strain + lambda tr(strain) I,
   // f_a = P g_a with P = -V R sigma.
   alignas(64) double F[3][3][B];
@@ -109,6 +102,14 @@ COROTATE_CPU_CLONES void corotational_tet_batch(const TetBatchInput& in, double 
                           F[0][1][b] * (F[1][0][b] * F[2][2][b] - F[1][2][b] * F[2][0][b]) +
                           F[0][2][b] * (F[1][0][b] * F[2][1][b] - F[1][1][b] * F[2][0][b]);
   }
+
+  if (!out.stiffness) return;
+  // Rotated gradients a_i = R g_i.
+  alignas(64) double a[4][3][B];
+  for (int i = 0; i < 4; ++i)
+    for (int r = 0; r < 3; ++r)
+      for (int b = 0; b < B; ++b)
+        a[i][r][b] = in.R[r][0][b] * G[i][0][b] + in.R[r][1][b] * G[i][1][b] + in.R[r][2][b] * G[i][2][b];
 
   // Blocks (i, j), i <= j: with u = a_i a_j^T, lambda V u + mu V u^T + mu V (a_i . a_j) I.
   // Diagonal blocks come out exactly symmetric (u is). For a float32 system they are computed

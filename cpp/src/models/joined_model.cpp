@@ -73,13 +73,25 @@ bool JoinedModel::symmetric_tangent() const {
   return std::all_of(parts_.begin(), parts_.end(), [](const Part& p) { return p.model->symmetric_tangent(); });
 }
 
+bool JoinedModel::measures_frame_drift() const {
+  const bool all_measure =
+      std::all_of(parts_.begin(), parts_.end(), [](const Part& p) { return p.model->measures_frame_drift(); });
+  const bool none_turns =
+      std::none_of(parts_.begin(), parts_.end(), [](const Part& p) { return p.model->stiffness_turns(); });
+  return all_measure && (stiffness_turns() || none_turns);
+}
+
+bool JoinedModel::stiffness_turns() const {
+  return std::all_of(parts_.begin(), parts_.end(), [](const Part& p) { return p.model->stiffness_turns(); });
+}
+
 void JoinedModel::evaluate(const Nodes& x, const Request& what, Results& out) {
   check_evaluation(x, what, out);
   Request part_request = what;
   // Every block of each part: which blocks the joined product reads depends on the joined
   // pattern's row chunks, not on the part's.
   part_request.lower_blocks = true;
-  double energy = 0;
+  double energy = 0, drift = 0;
   Index inverted = 0;
   for (Part& part : parts_) {
     const Index n = part.model->num_nodes();
@@ -88,6 +100,7 @@ void JoinedModel::evaluate(const Nodes& x, const Request& what, Results& out) {
       part.forces_at = what.forces_at->middleCols(part.node_offset, n);
       part_request.forces_at = &part.forces_at;
     }
+    if (what.frame_turn_of_node) part_request.frame_turn_of_node = what.frame_turn_of_node + part.node_offset;
     Results part_out;
     if (what.forces) {
       part.forces.setZero();
@@ -100,6 +113,7 @@ void JoinedModel::evaluate(const Nodes& x, const Request& what, Results& out) {
     part.model->evaluate(part.x, part_request, part_out);
     energy += part_out.energy;
     inverted += part_out.inverted;
+    drift = std::max(drift, part_out.frame_drift);
     if (what.forces) out.forces->middleCols(part.node_offset, n) += part.forces;
     if (what.stiffness != StiffnessKind::None) {
       const std::vector<double>& from = part.stiffness.values();
@@ -109,6 +123,7 @@ void JoinedModel::evaluate(const Nodes& x, const Request& what, Results& out) {
   }
   if (what.energy) out.energy = energy;
   if (what.count_inverted) out.inverted = inverted;
+  if (what.frame_drift) out.frame_drift = drift;
 }
 
 void JoinedModel::save_caches() {

@@ -1,5 +1,7 @@
 #include "corotate/solvers/aggregate_rotations.hpp"
 
+#include <utility>
+
 #include "corotate/models/rotation_extraction.hpp"
 
 namespace corotate {
@@ -32,12 +34,17 @@ std::vector<int> aggregate_nodes(const BlockSparseMatrix& pattern, int* count) {
 }
 
 void AggregateRotations::build(const BlockSparseMatrix& pattern, const Nodes& built_at) {
-  const Index n = pattern.num_nodes();
+  int m = 0;
+  std::vector<int> aggregate = aggregate_nodes(pattern, &m);
+  build(std::move(aggregate), m, built_at);
+}
+
+void AggregateRotations::build(std::vector<int> aggregate_of_node, int m, const Nodes& built_at) {
+  const Index n = static_cast<Index>(aggregate_of_node.size());
   if (built_at.cols() != n)
     throw InvalidInput("aggregate rotations: positions of " + std::to_string(built_at.cols()) + " nodes for a " +
                        std::to_string(n) + "-node system");
-  int m = 0;
-  aggregate_ = aggregate_nodes(pattern, &m);
+  aggregate_ = std::move(aggregate_of_node);
   std::vector<Vec3> centre(m, Vec3::Zero());
   std::vector<int> size(m, 0);
   for (Index i = 0; i < n; ++i) {
@@ -64,6 +71,28 @@ void AggregateRotations::update(const Nodes& x) {
   extract_rotations(covariance_.data(), rotation_guess_.data(), rotations_.data(), static_cast<int>(m));
   rotated_ = false;
   for (Index a = 0; a < m; ++a) rotated_ = rotated_ || !rotations_[a].isIdentity(1e-12);
+}
+
+std::vector<int> connected_parts(const BlockSparseMatrix& pattern, int* count) {
+  const Index n = pattern.num_nodes();
+  std::vector<int> part(n, -1), stack;
+  int m = 0;
+  for (Index seed = 0; seed < n; ++seed) {
+    if (part[seed] >= 0) continue;
+    part[seed] = m;
+    stack.assign(1, static_cast<int>(seed));
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      for (int k = pattern.row_start()[i]; k < pattern.row_start()[i + 1]; ++k) {
+        const int j = pattern.columns()[k];
+        if (part[j] < 0) part[j] = m, stack.push_back(j);
+      }
+    }
+    ++m;
+  }
+  *count = m;
+  return part;
 }
 
 }  // namespace corotate

@@ -376,7 +376,9 @@ void TwoLevelPreconditioner::compute_assembled() {
   if (!ready_) throw InvalidInput("two_level preconditioner: a float32 system before the hierarchy was built");
   turn(A_single_.num_nodes());
   update_coarse_terms();
-  diagonal_.compute(A_single_);
+  // A matrix the step kept (kept_system.hpp) has the smoother it had.
+  if (A_single_.assembly_count() != diagonal_assembly_) diagonal_.compute(A_single_);
+  diagonal_assembly_ = A_single_.assembly_count();
 }
 
 void TwoLevelPreconditioner::apply(const Vec& r, Vec& z) {

@@ -78,6 +78,7 @@ COROTATE_CPU_CLONES void SinglePrecisionSymmetric::assign(const BlockSparseMatri
   if (largest > 0 && std::isfinite(largest)) std::frexp(largest, &exponent);
   unscale_ = std::ldexp(1.0, exponent);
   convert_from(A, std::ldexp(1.0, -exponent), values_.data());
+  ++assemblies_;
 }
 
 void SinglePrecisionSymmetric::start_assembly(const BlockSparseMatrix& M, double s, std::uint64_t version) {
@@ -91,6 +92,7 @@ void SinglePrecisionSymmetric::start_assembly(const BlockSparseMatrix& M, double
     start_s_ = s, start_unscale_ = unscale_, start_version_ = version, start_layout_ = layout_id_;
   }
   std::memcpy(values_.data(), start_values_.data(), values_.size() * sizeof(float));
+  ++assemblies_;
 }
 
 void SinglePrecisionSymmetric::add_to_diagonal(Index i, double value) {

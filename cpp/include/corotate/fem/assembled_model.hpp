@@ -12,9 +12,12 @@
 // symmetric_tangent = false (co-rotated hexes): its N x N blocks are added as they are.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <exception>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 #include <vector>
@@ -59,6 +62,12 @@ class AssembledModel final : public ForceModel {
   bool assembles_single_precision() const override {
     return kernel_sweeps_batches<Kernel> && !project_psd_ && Kernel::forces_linear_given_frame;
   }
+  // The co-rotated tets' frames are their rotations (kept as quaternions); a constant
+  // stiffness has no frames to turn.
+  bool measures_frame_drift() const override {
+    return Kernel::constant_stiffness || (kernel_sweeps_batches<Kernel> && assembles_single_precision());
+  }
+  bool stiffness_turns() const override { return !Kernel::constant_stiffness; }
   void evaluate(const Nodes& x, const Request& what, Results& out) override;
   // The restore point costs no copy of the caches (half a MB at 15,360 tets, ~2 % of a
   // step): saving swaps the buffers, so the current caches become the restore point, and the
@@ -181,6 +190,12 @@ class AssembledModel final : public ForceModel {
   static constexpr int kFrameBatch = kernel_frame_batch<Kernel>;
   SweepSchedule schedule_;
   std::vector<double> chunk_energy_;
+  // The element rotations of the last sweep that assembled with Request::frame_drift (valid
+  // only after that sweep finished), and per chunk the smallest |q . q_assembled| of a
+  // drift-measuring sweep: cos of half the largest angle an element turned since.
+  std::vector<Eigen::Quaterniond> assembled_frames_;
+  bool have_assembled_frames_ = false;
+  std::vector<double> chunk_alignment_;
   std::vector<Index> chunk_inverted_;
   std::vector<std::exception_ptr> chunk_error_;
   BlockSparseMatrix constant_stiffness_;  // K, assembled once, for constant-stiffness kernels
@@ -251,6 +266,7 @@ template <class Kernel>
 void AssembledModel<Kernel>::schedule_chunks() {
   schedule_ = schedule_sweep(cells_.data(), N, num_elements(), num_nodes(), kChunk);
   chunk_energy_.assign(schedule_.num_chunks, 0.0);
+  chunk_alignment_.assign(schedule_.num_chunks, 1.0);
   chunk_inverted_.assign(schedule_.num_chunks, 0);
   chunk_error_.assign(schedule_.num_chunks, nullptr);
 }
@@ -317,7 +333,16 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
     // into the global matrix) runs a batch of elements at once where the kernel can.
     bool batched = false;
     if constexpr (kernel_sweeps_batches<Kernel>)
-      batched = kind == StiffnessKind::Model && direct_scatter && what.forces;
+      batched = (kind == StiffnessKind::Model || (kind == StiffnessKind::None && what.frame_drift)) && direct_scatter &&
+                what.forces;
+    // Frames compared with the recorded ones and, where the sweep assembles, recorded.
+    const bool measure_drift = batched && what.frame_drift;
+    const bool mark_frames = measure_drift && kind == StiffnessKind::Model;
+    const bool had_frames = have_assembled_frames_;
+    if (mark_frames) {
+      have_assembled_frames_ = false;  // until this sweep has finished
+      assembled_frames_.resize(num_elements());
+    }
     // (check_evaluation let a float32 system through only for this path.)
     SinglePrecisionSymmetric* single = out.single_stiffness;
     if (single && !batched)
@@ -385,6 +410,8 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
           NodeMatrix xe[kFrameBatch], ye, fe;
           Batch batch;
           batch.single = single != nullptr;
+          batch.stiffness = kind == StiffnessKind::Model;
+          double alignment = 1;
           typename Kernel::Frame frames[kFrameBatch];
           Stiffness Ke;
           NodeScalars k;
@@ -400,6 +427,19 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
                 if (what.energy) energy += batch.energy[b];
                 if (what.count_inverted && !(batch.volume_ratio[b] > 0)) ++inverted;
                 scatter(first + b, batch, b, *out.forces);
+              }
+              if constexpr (kernel_sweeps_batches<Kernel>) {
+                if (measure_drift && had_frames)
+                  for (int b = 0; b < count; ++b) {
+                    const Index e = first + b;
+                    const Eigen::Quaterniond recorded =
+                        what.frame_turn ? what.frame_turn[what.frame_turn_of_node[cells_(e, 0)]] * assembled_frames_[e]
+                                        : assembled_frames_[e];
+                    alignment = std::min(alignment, std::abs(caches_[e].q.dot(recorded)));
+                  }
+                if (mark_frames)
+                  for (int b = 0; b < count; ++b) assembled_frames_[first + b] = caches_[first + b].q;
+                else if (measure_drift) return;  // no blocks
               }
               if (single) add_batch_product_blocks(batch, count, &single_targets_[first], single->values());
               else if (what.lower_blocks)
@@ -430,6 +470,7 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
           }
           chunk_energy_[c] = energy;
           chunk_inverted_[c] = inverted;
+          chunk_alignment_[c] = alignment;
         }
       });
     }
@@ -444,6 +485,12 @@ void AssembledModel<Kernel>::evaluate(const Nodes& x, const Request& what, Resul
     }
     if (what.energy) out.energy = energy;
     if (what.count_inverted) out.inverted = inverted;
+    if (mark_frames) have_assembled_frames_ = true;
+    if (measure_drift) {
+      double alignment = 1;
+      for (const double a : chunk_alignment_) alignment = std::min(alignment, a);
+      out.frame_drift = had_frames ? 2 * std::acos(std::min(1.0, alignment)) : std::numeric_limits<double>::infinity();
+    }
   }
 }
 
@@ -451,6 +498,7 @@ template <class Kernel>
 void AssembledModel<Kernel>::evaluate_constant(const Nodes& x, const Request& what, Results& out) {
   if (what.stiffness == StiffnessKind::Geometric && out.stiffness)
     throw InvalidInput(std::string("the '") + Kernel::name + "' model has no separate geometric stiffness");
+  if (what.frame_drift) out.frame_drift = 0;  // K never turns
   if (what.energy || what.forces) {
     // The force is linear, so its linearisation about x evaluated at y is the force at y.
     const Nodes& at = (what.forces && what.forces_at) ? *what.forces_at : x;

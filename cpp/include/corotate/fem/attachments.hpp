@@ -30,6 +30,9 @@ class Attachments {
   const Vec& stiffness() const { return stiffness_; }
   // Incremented by every change, so a caller can tell whether the springs moved since it looked.
   long long version() const { return version_; }
+  // Incremented by the changes of the springs' stiffness (attach, detach, clear; not move):
+  // whether a system matrix that holds them is still right.
+  long long stiffness_version() const { return stiffness_version_; }
 
   // Attach nodes (or re-attach: a node attached already gets the new target and stiffness).
   // targets: 3 x nodes.size(); stiffness: nodes.size() values [N/m]. Throws InvalidInput
@@ -61,6 +64,7 @@ class Attachments {
   Nodes targets_;
   Vec stiffness_;
   long long version_ = 0;
+  long long stiffness_version_ = 0;
 };
 
 }  // namespace corotate

@@ -123,6 +123,7 @@ struct ForceStiffnessBatch {
   double energy[Batch];
   double volume_ratio[Batch];
   bool single = false;
+  bool stiffness = true;  // false: no blocks (a step that keeps its system matrix)
 };
 
 // Kernel::symmetric_tangent where the kernel declares it, else true.

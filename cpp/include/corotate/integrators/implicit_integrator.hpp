@@ -34,6 +34,8 @@
 #include <cstdint>
 
 #include "corotate/integrators/integrator.hpp"
+#include "corotate/integrators/kept_system.hpp"
+#include "corotate/solvers/aggregate_rotations.hpp"
 
 namespace corotate {
 
@@ -42,8 +44,13 @@ class ImplicitIntegrator : public Integrator {
   using Integrator::Integrator;
   void attach(ForceModel& model) override;
   const BlockSparseMatrix& mass() const override { return mass_; }
+  void constraints_changed(const FixedDofs&) override { kept_.forget(); }
   void save_state() override { saved_dv_ = dv_; }
-  void restore_state() override { dv_ = saved_dv_; }
+  // A failed step may have left the matrix half assembled.
+  void restore_state() override {
+    dv_ = saved_dv_;
+    kept_.forget();
+  }
 
  protected:
   BlockSparseMatrix mass_;    // M in the model's pattern
@@ -53,6 +60,11 @@ class ImplicitIntegrator : public Integrator {
   BlockSparseMatrix system_;  // A, reassembled every step
   Nodes force_, y_;           // forces; a second point (linearisation point, Newton trial)
   Vec rhs_, dv_, work_, saved_dv_;
+  KeptSystem kept_;  // whether the linearised step may keep its matrix
+  AggregateRotations kept_turn_;  // each body part's turn since the kept matrix was assembled
+  std::vector<int> body_parts_;   // connected part of each node (of the attached model)
+  int num_body_parts_ = 0;
+  std::vector<Eigen::Quaterniond> part_turns_;  // kept_turn_'s rotations as quaternions
 };
 
 }  // namespace corotate

@@ -37,6 +37,9 @@ struct IntegratorSettings {
   TimeStepPolicy policy = TimeStepPolicy::Fixed;   // explicit: how dt_crit is estimated
   OnUnstable on_unstable = OnUnstable::Substep;    // explicit: what a dt above the stable step does
   double safety = 0.9;             // explicit: fraction of dt_crit a substep may use, in (0, 1]
+  // linearized: the system matrix is kept while no element has turned more than this angle
+  // [rad] since it was assembled (kept_system.hpp), at most 0.5; 0: assembled at every step.
+  double matrix_reuse_angle = 0.03;
   // Throws InvalidInput naming the parameter.
   void validate() const;
 };
@@ -75,6 +78,7 @@ struct StepStats {
   SolveStats solve;                      // of the last linear solve (iterations: summed over Newton)
   int newton_iterations = 0;             // 0 for the linearised step
   int contact_passes = 0;                // linearised step: solves after the first (contacts released)
+  bool kept_matrix = false;              // linearised step: kept an earlier step's matrix (kept_system.hpp)
   std::vector<double> newton_residuals;  // relative gradient norm before each Newton iteration
   int substeps = 1;                      // explicit: substeps taken, and their size [s]
   double substep = 0;

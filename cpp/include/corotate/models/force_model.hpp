@@ -22,6 +22,7 @@
 //              others throw InvalidInput.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <memory>
 
 #include "corotate/sparse/block_sparse_matrix.hpp"
@@ -53,6 +54,17 @@ struct Request {
   // BlockSparseMatrix::multiply_symmetric never reads (is_product_block false), for a solve
   // that reads no others (LinearSolver::needs_lower_blocks): a third fewer blocks to add.
   bool lower_blocks = true;
+  // Where the model measures_frame_drift: the largest angle any element frame turned since
+  // the last sweep that assembled the Model stiffness with this flag goes to
+  // Results::frame_drift, and with the Model stiffness this sweep's frames become the ones
+  // measured from. What lets the linearised step keep its matrix while the body turns
+  // little (kept_system.hpp).
+  bool frame_drift = false;
+  // With frame_drift, when set: the recorded frames are measured from as turned since by
+  // frame_turn[frame_turn_of_node[i]] (i an element's first node): how far the elements
+  // turned beyond the rotation of their part of the body (kept_system.hpp).
+  const Eigen::Quaterniond* frame_turn = nullptr;
+  const int* frame_turn_of_node = nullptr;
 };
 
 // Where evaluate() puts it. Forces and stiffness are added to what is there.
@@ -65,6 +77,9 @@ struct Results {
   // for pattern()), the blocks its product reads only. The implicit step's fast path.
   SinglePrecisionSymmetric* single_stiffness = nullptr;
   Index inverted = 0;  // set when count_inverted was requested
+  // Set when frame_drift was requested: the largest rotation [rad] of an element frame since
+  // the last sweep that assembled with frame_drift (infinity if none).
+  double frame_drift = 0;
 };
 
 class ForceModel {
@@ -86,6 +101,13 @@ class ForceModel {
   virtual bool symmetric_tangent() const { return true; }
   // Whether evaluate() can add the Model stiffness, with forces, to Results::single_stiffness.
   virtual bool assembles_single_precision() const { return false; }
+  // Whether the stiffness depends on the configuration only through element frames that
+  // evaluate() can compare with those of the last assembly (Request::frame_drift): the
+  // co-rotated tets (their K is R K0 R^T) and the constant-stiffness models (drift 0).
+  virtual bool measures_frame_drift() const { return false; }
+  // Whether the stiffness turns with the body (K(R x) = R K(x) R^T for a rigid rotation R:
+  // the co-rotated models), rather than staying as it is (the linear model).
+  virtual bool stiffness_turns() const { return false; }
 
   // Energy, forces and/or stiffness at positions x (3 x n), as `what` asks. Throws
   // InvalidInput for a request the model cannot answer (Geometric on a model without a

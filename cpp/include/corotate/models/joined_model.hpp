@@ -35,6 +35,9 @@ class JoinedModel final : public ForceModel {
   BlockSparseMatrix mass_matrix(bool lumped) const override;
   bool is_linear() const override;
   bool symmetric_tangent() const override;
+  // When every part does and all parts turn or none (one kept system turns all or none).
+  bool measures_frame_drift() const override;
+  bool stiffness_turns() const override;
   void evaluate(const Nodes& x, const Request& what, Results& out) override;
   void save_caches() override;
   void restore_caches() override;

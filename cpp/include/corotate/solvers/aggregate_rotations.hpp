@@ -25,6 +25,8 @@ class AggregateRotations {
   // Aggregates from the node graph of `pattern`; offsets from `built_at` (3 x n). Rotations
   // start at the identity.
   void build(const BlockSparseMatrix& pattern, const Nodes& built_at);
+  // The same with given aggregates: aggregate_of_node[i] in [0, count).
+  void build(std::vector<int> aggregate_of_node, int count, const Nodes& built_at);
   bool empty() const { return aggregate_.empty(); }
   Index num_aggregates() const { return static_cast<Index>(rotations_.size()); }
   const std::vector<int>& aggregate_of_node() const { return aggregate_; }
@@ -55,5 +57,9 @@ class AggregateRotations {
 // aggregate with them; leftovers join a neighbouring aggregate. Returns the aggregate of each
 // node and their number in *count.
 std::vector<int> aggregate_nodes(const BlockSparseMatrix& pattern, int* count);
+
+// The connected parts of the node graph of `pattern` (the separate bodies of a Scene): the
+// part of each node, and their number in *count.
+std::vector<int> connected_parts(const BlockSparseMatrix& pattern, int* count);
 
 }  // namespace corotate

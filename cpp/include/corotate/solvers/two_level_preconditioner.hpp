@@ -127,6 +127,7 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // tolerances, pcg.hpp).
   SinglePrecisionSymmetric A_single_;
   BlockJacobiPreconditioner diagonal_;
+  std::uint64_t diagonal_assembly_ = 0;  // A_single_'s assembly_count() diagonal_ was computed at
   BlockProlongator prolongator_;  // P (3n x at most 6m) for P c and P^T r
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> coarse_;
   // The library's own supernodal factor, with or without CHOLMOD: its solve is as fast as the

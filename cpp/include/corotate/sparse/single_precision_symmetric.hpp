@@ -58,6 +58,10 @@ class SinglePrecisionSymmetric {
   Index num_pattern_blocks() const { return static_cast<Index>(block_position_.size()); }
   // The values, 9 per stored block (row-major), each the true value divided by unscale().
   float* values() { return values_.data(); }
+  // Counts assign() and start_assembly() calls: a reader that computed something from the
+  // values under one count (a smoother's inverted diagonal) may keep it while the count is
+  // the same (the writes through values() belong to the assembly that began).
+  std::uint64_t assembly_count() const { return assemblies_; }
   // Begins an assembly: the values become s M (M in the pattern of the layout, e.g. the
   // mass matrix). The float image of s M is kept and made again only when s, the scale or
   // the caller's version number of M change, so a step starts with a copy of 4 bytes per
@@ -92,6 +96,7 @@ class SinglePrecisionSymmetric {
   double unscale_ = 1.0;       // the power of two the values were divided by
   std::vector<int> block_position_;  // per block of the pattern: its stored block, or -1
   std::uint64_t layout_id_ = 0;
+  std::uint64_t assemblies_ = 0;
   // start_assembly's image of s M and what it was made from.
   std::vector<float> start_values_;
   double start_s_ = 0.0, start_unscale_ = 0.0;
