@@ -1,5 +1,7 @@
 // The linearised implicit Euler step (see implicit_integrator.hpp): one linear solve.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include "corotate/integrators/implicit_integrator.hpp"
@@ -63,7 +65,9 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
           in.model.assembles_single_precision() ? in.solver.single_precision_target() : nullptr;
       const bool lower_blocks = !single && in.solver.needs_lower_blocks();
       // Keep last step's matrix while the elements turned little since (kept_system.hpp).
-      const bool track = in.model.measures_frame_drift() && !in.has_contacts();
+      // With contacts only in float32, where the body's part of the matrix is kept aside.
+      const bool contacts = in.has_contacts();
+      const bool track = in.model.measures_frame_drift() && (!contacts || single);
       KeptSystem::Key key;
       if (track)
         key = {&in.solver,
@@ -72,20 +76,30 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
                mass_version_,
                in.attachments.stiffness_version(),
                &in.model};
-      const bool keep = track && pass == 0 && kept_.may_keep(key, settings().matrix_reuse_angle);
       // Each part's turn since the matrix was assembled: the turn of a kept matrix (below), and
       // what the drift is measured beyond.
       const bool turned = track && in.model.stiffness_turns() && !kept_turn_.empty() &&
                           body_parts_.size() == static_cast<size_t>(in.x.cols());
+      double largest_turn = 0;
       if (turned) {
         kept_turn_.update(in.x);
         part_turns_.resize(num_body_parts_);
-        for (int p = 0; p < num_body_parts_; ++p) part_turns_[p] = Eigen::Quaterniond(kept_turn_.rotation(p));
+        for (int p = 0; p < num_body_parts_; ++p) {
+          part_turns_[p] = Eigen::Quaterniond(kept_turn_.rotation(p));
+          largest_turn = std::max(largest_turn, 2 * std::acos(std::min(1.0, std::abs(part_turns_[p].w()))));
+        }
       }
+      // The contacts' terms are in the world's frame: with them the kept matrix is not turned,
+      // so the parts' turns count against the angle as well.
+      const bool keep = track && pass == 0 && (!contacts || kept_image_valid_) &&
+                        kept_.may_keep(key, settings().matrix_reuse_angle - (contacts ? largest_turn : 0.0));
       if (!keep) {
         kept_.forget();  // until the matrix is whole again
+        kept_image_valid_ = false;
         if (single) single->start_assembly(mass_, 1 + dt * alpha, mass_version_);
         else system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
+      } else if (kept_has_contacts_ || contacts) {
+        single->restore_values(kept_image_);  // the body's part, without the last contacts
       }
       Request what;
       what.lower_blocks = lower_blocks;
@@ -114,6 +128,12 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       in.attachments.add_forces(y_, force_);
       if (!keep && single) in.attachments.add_stiffness(what.stiffness_scale, *single);
       else if (!keep) in.attachments.add_stiffness(what.stiffness_scale, system_);
+      if (!keep && track && contacts) {  // the body's part kept aside for the next steps
+        in.fixed.project(*single);
+        single->save_values(kept_image_);
+        kept_image_valid_ = true;
+      }
+      kept_has_contacts_ = contacts;
       // Contacts likewise (undamped by beta), linearised where each node's free flight ends:
       // a node at rest above the floor touches it only under the step's gravity. The
       // friction's Hessian times dt^2 is its damping dt dF/dv on the new velocity.
@@ -127,7 +147,7 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
         mass_.multiply(as_dofs(in.v), work_);
         rhs_ -= (dt * alpha) * work_;
       }
-      if (!keep && single) in.fixed.project(*single);
+      if (single && (!keep || contacts)) in.fixed.project(*single);
       else if (!keep) in.fixed.project(system_);
       in.fixed.project(rhs_);
       stats.assembly_ms = ms_since(t_start);
@@ -149,7 +169,8 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       // cage on its anchor) met the kept stiffness against its rigid rotation and strayed 19 %
       // from its path; one rotation per node instead of per part broke the conservation of
       // momentum (a part's translation is no longer in the turned matrix's null space).
-      if (keep && turned) {
+      const bool turn = keep && turned && !contacts;
+      if (turn) {
         turn_nodes(kept_turn_, true, rhs_);
         turn_nodes(kept_turn_, true, dv_);
       }
@@ -164,7 +185,7 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
                                   "inverted elements): the step is too large for its linearisation; use a smaller dt "
                                   "with Body(..., project_psd=True), which keeps the system positive definite");
       }
-      if (keep && turned) turn_nodes(kept_turn_, false, dv_);
+      if (turn) turn_nodes(kept_turn_, false, dv_);
       in.fixed.project(dv_);
       stats.solve_ms = ms_since(t_solve);
       if (track && !keep) {

@@ -1,7 +1,5 @@
 #include "corotate/solvers/aggregate_rotations.hpp"
 
-#include <utility>
-
 #include "corotate/models/rotation_extraction.hpp"
 
 namespace corotate {
@@ -35,16 +33,16 @@ std::vector<int> aggregate_nodes(const BlockSparseMatrix& pattern, int* count) {
 
 void AggregateRotations::build(const BlockSparseMatrix& pattern, const Nodes& built_at) {
   int m = 0;
-  std::vector<int> aggregate = aggregate_nodes(pattern, &m);
-  build(std::move(aggregate), m, built_at);
+  const std::vector<int> aggregate = aggregate_nodes(pattern, &m);
+  build(aggregate, m, built_at);
 }
 
-void AggregateRotations::build(std::vector<int> aggregate_of_node, int m, const Nodes& built_at) {
+void AggregateRotations::build(const std::vector<int>& aggregate_of_node, int m, const Nodes& built_at) {
   const Index n = static_cast<Index>(aggregate_of_node.size());
   if (built_at.cols() != n)
     throw InvalidInput("aggregate rotations: positions of " + std::to_string(built_at.cols()) + " nodes for a " +
                        std::to_string(n) + "-node system");
-  aggregate_ = std::move(aggregate_of_node);
+  aggregate_ = aggregate_of_node;  // (its storage reused when built again)
   std::vector<Vec3> centre(m, Vec3::Zero());
   std::vector<int> size(m, 0);
   for (Index i = 0; i < n; ++i) {

@@ -81,6 +81,12 @@ COROTATE_CPU_CLONES void SinglePrecisionSymmetric::assign(const BlockSparseMatri
   ++assemblies_;
 }
 
+void SinglePrecisionSymmetric::restore_values(const std::vector<float>& from) {
+  if (from.size() != values_.size()) throw InvalidInput("float32 system: restoring values of another layout");
+  std::memcpy(values_.data(), from.data(), values_.size() * sizeof(float));
+  ++assemblies_;
+}
+
 void SinglePrecisionSymmetric::start_assembly(const BlockSparseMatrix& M, double s, std::uint64_t version) {
   if (s != start_s_ || unscale_ != start_unscale_ || version != start_version_ || layout_id_ != start_layout_) {
     // (The pattern is checked only here: the caller's version number stands for M.)

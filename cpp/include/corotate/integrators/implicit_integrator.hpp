@@ -65,6 +65,11 @@ class ImplicitIntegrator : public Integrator {
   std::vector<int> body_parts_;   // connected part of each node (of the attached model)
   int num_body_parts_ = 0;
   std::vector<Eigen::Quaterniond> part_turns_;  // kept_turn_'s rotations as quaternions
+  // The kept float32 matrix without contacts, saved where an assembling step had them (its
+  // values then hold them too: the next kept step starts again from this image).
+  std::vector<float> kept_image_;
+  bool kept_image_valid_ = false;
+  bool kept_has_contacts_ = false;  // the float32 values hold the last step's contact terms
 };
 
 }  // namespace corotate

@@ -26,7 +26,7 @@ class AggregateRotations {
   // start at the identity.
   void build(const BlockSparseMatrix& pattern, const Nodes& built_at);
   // The same with given aggregates: aggregate_of_node[i] in [0, count).
-  void build(std::vector<int> aggregate_of_node, int count, const Nodes& built_at);
+  void build(const std::vector<int>& aggregate_of_node, int count, const Nodes& built_at);
   bool empty() const { return aggregate_.empty(); }
   Index num_aggregates() const { return static_cast<Index>(rotations_.size()); }
   const std::vector<int>& aggregate_of_node() const { return aggregate_; }

@@ -62,6 +62,11 @@ class SinglePrecisionSymmetric {
   // values under one count (a smoother's inverted diagonal) may keep it while the count is
   // the same (the writes through values() belong to the assembly that began).
   std::uint64_t assembly_count() const { return assemblies_; }
+  // A copy of the values, and back (the body's part of a system the step keeps while its
+  // contacts change); restoring counts as an assembly. Throws InvalidInput for a copy of
+  // another size.
+  void save_values(std::vector<float>& to) const { to.assign(values_.begin(), values_.end()); }
+  void restore_values(const std::vector<float>& from);
   // Begins an assembly: the values become s M (M in the pattern of the layout, e.g. the
   // mass matrix). The float image of s M is kept and made again only when s, the scale or
   // the caller's version number of M change, so a step starts with a copy of 4 bytes per
