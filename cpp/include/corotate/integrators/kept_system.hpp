@@ -8,19 +8,21 @@
 // rotations up to that angle old. This is the error control of Hecht et al. 2012 ("Updated
 // sparse Cholesky factors for corotational elastodynamics"), applied to the whole matrix:
 // reassemble once the largest element rotation since the assembly would pass the angle.
-// The preconditioner keeps following the matrix's frames (set_positions at the assembly).
+// The integrator turns the kept matrix with each connected part of the body (shape matching)
+// and measures the elements' rotations beyond their part's; the preconditioner keeps the
+// frames of the assembly (set_positions there only). docs/theory/implicit-step.md has the
+// whole story and the measured deviations.
 //
 // The drift is measured by every sweep (Request::frame_drift) at the step's start
 // positions, from the frames of the last assembly. The next step's is predicted as this one
 // plus the last step's growth (a body that turns steadily), so the matrix is rebuilt before
 // the angle is passed; right after an assembly the growth is the turn since the assembly
-// before, per step (unknown at the first: that step's successor assembles too, so a body
-// set spinning faster than the angle per step never keeps its matrix).
+// before, per step (unknown at the first: that step's successor assembles too).
 //
 // Anything else the matrix holds must be as it was: the same solver and float32 target, the
-// same mass, dt and damping (a new integrator), fixed DOFs (forget on constraints_changed),
-// attachment stiffness (Attachments::stiffness_version) and no contacts (their stiffness
-// comes and goes every step: such steps assemble, and the next one does too).
+// same mass, dt and damping (a new integrator), fixed DOFs (forget on constraints_changed)
+// and attachment stiffness (Attachments::stiffness_version). Contacts come and go every step:
+// the integrator keeps the body's part of the float32 matrix aside and adds each step's own.
 #pragma once
 
 #include <cstdint>
