@@ -229,7 +229,7 @@ void usage() {
       "                      settings of the 'custom' configuration (none, jacobi, block_jacobi,\n"
       "                      reference_factor, two_level; default block_jacobi, 1e-6, 20, warm start)\n"
       "  --reuse-angle A     matrix_reuse_angle [rad] of every configuration but paper, paper_warm and\n"
-      "                      the reference, which assemble at every step (default: the library's, 0.03)\n"
+      "                      the reference, which assemble at every step (default: the library's)\n"
       "  --scenario mass_spring [--frames N] [--integrator I]\n"
       "                      (first option) explicit mass-spring cloth and lattices instead; see\n"
       "                      bench/mass_spring_scenario.hpp\n"
@@ -340,6 +340,8 @@ int main(int argc, char** argv) {
         "scenario: corotational %s, E=1e7 nu=0.3 rho=1000, gravity -z, dt=%g, %d steps, %s mass, %s, %d thread(s)\n",
         opt.element.c_str(), opt.dt, opt.steps, opt.lumped ? "lumped" : "consistent",
         opt.checks ? "loud-failure checks" : "no checks", num_threads());
+    std::printf("matrix_reuse_angle: %g rad (paper, paper_warm and the reference: 0, every step assembled)\n",
+                opt.reuse_angle);
     const char* policy = std::getenv("OMP_WAIT_POLICY");
     std::printf("OpenMP threads waiting at barriers: OMP_WAIT_POLICY=%s\n", policy ? policy : "(unset)");
     std::printf("instruction set of the hot loops: %s\n", build_info().instruction_set.c_str());

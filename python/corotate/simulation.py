@@ -41,9 +41,10 @@ class Simulation(ContactMembers, DrivenBody):
                 (relative to the loads and momentum); beta must be 0 then.
     newton_iterations, newton_tolerance   limits of the "newton" integrator (20, 1e-6)
     matrix_reuse_angle   "linearized": the step keeps an earlier step's system matrix while
-                no element has turned by more than this angle [rad] since it was assembled
-                (default 0.03; the forces always use the current rotations, so a body comes
-                to the same rest; at most 0.5; 0 assembles at every step, as the paper does).
+                no element has turned by more than this angle [rad] beyond its body's
+                rotation since it was assembled (the forces always use the current
+                rotations, so a body comes to the same rest; at most 0.5; 0 assembles at
+                every step, as the paper does).
                 stats["kept_matrix_steps"] counts the steps that kept it.
 
     The derivations: cpp/include/corotate/integrators/implicit_integrator.hpp.

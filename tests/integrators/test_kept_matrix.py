@@ -7,6 +7,8 @@ springs, contacts) makes the next step assemble it again."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -177,3 +179,10 @@ def test_a_reuse_angle_out_of_range_is_refused(bad):
 def test_a_reuse_angle_must_be_a_real_number(bad):
     with pytest.raises(TypeError, match="matrix_reuse_angle must be a real number"):
         cr.Simulation(cr.Body(cr.box(), MAT), matrix_reuse_angle=bad)
+
+
+def test_the_guides_state_the_default_angle_the_settings_hold():
+    default = cr._core.IntegratorSettings().matrix_reuse_angle
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    for page in ("guide/stepping-and-solvers.md", "theory/implicit-step.md"):
+        assert f"`matrix_reuse_angle` (default {default:g} rad)" in (docs / page).read_text(), page

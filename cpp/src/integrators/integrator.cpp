@@ -79,8 +79,9 @@ void IntegratorSettings::validate() const {
     require(newton_iterations >= 1, "newton_iterations must be at least 1, got " + std::to_string(newton_iterations));
     require(newton_tolerance > 0 && std::isfinite(newton_tolerance), "newton_tolerance must be positive");
   }
-  // (Beyond, the kept matrix's rotations are too far off: the swinging cantilever of
-  // tests/integrators/test_kept_matrix.py strays 1.2 % at 0.5 rad and runs away at 1.)
+  // (Beyond, the kept matrix's rotations are too far off: Table 1's cage strays 4 % from its
+  // path at 0.2 rad, bench/contact_step.py; before the matrix turned with the body, the
+  // cantilever of tests/integrators/test_kept_matrix.py ran away at 1 rad.)
   require(matrix_reuse_angle >= 0 && matrix_reuse_angle <= 0.5,
           "matrix_reuse_angle must be in [0, 0.5] rad, got " + std::to_string(matrix_reuse_angle));
   require(safety > 0 && safety <= 1, "safety factor must be in (0, 1], got " + std::to_string(safety));

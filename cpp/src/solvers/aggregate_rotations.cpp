@@ -43,14 +43,15 @@ void AggregateRotations::build(const std::vector<int>& aggregate_of_node, int m,
     throw InvalidInput("aggregate rotations: positions of " + std::to_string(built_at.cols()) + " nodes for a " +
                        std::to_string(n) + "-node system");
   aggregate_ = aggregate_of_node;  // (its storage reused when built again)
-  std::vector<Vec3> centre(m, Vec3::Zero());
-  std::vector<int> size(m, 0);
+  centre_.assign(m, Vec3::Zero());
+  size_.assign(m, 0);
   for (Index i = 0; i < n; ++i) {
-    centre[aggregate_[i]] += built_at.col(i);
-    ++size[aggregate_[i]];
+    centre_[aggregate_[i]] += built_at.col(i);
+    ++size_[aggregate_[i]];
   }
   offsets_.resize(3, n);
-  for (Index i = 0; i < n; ++i) offsets_.col(i) = built_at.col(i) - centre[aggregate_[i]] / double(size[aggregate_[i]]);
+  for (Index i = 0; i < n; ++i)
+    offsets_.col(i) = built_at.col(i) - centre_[aggregate_[i]] / double(size_[aggregate_[i]]);
   rotations_.assign(m, Mat3::Identity());
   covariance_.assign(m, Mat3::Zero());
   rotation_guess_.assign(m, Eigen::Quaterniond::Identity());

@@ -64,9 +64,7 @@ class AssembledModel final : public ForceModel {
   }
   // The co-rotated tets' frames are their rotations (kept as quaternions); a constant
   // stiffness has no frames to turn.
-  bool measures_frame_drift() const override {
-    return Kernel::constant_stiffness || (kernel_sweeps_batches<Kernel> && assembles_single_precision());
-  }
+  bool measures_frame_drift() const override { return Kernel::constant_stiffness || assembles_single_precision(); }
   bool stiffness_turns() const override { return !Kernel::constant_stiffness; }
   void evaluate(const Nodes& x, const Request& what, Results& out) override;
   // The restore point costs no copy of the caches (half a MB at 15,360 tets, ~2 % of a

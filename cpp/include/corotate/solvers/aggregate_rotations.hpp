@@ -48,6 +48,10 @@ class AggregateRotations {
   Nodes offsets_;                                   // X_i - c (build configuration minus its aggregate's centre)
   std::vector<Mat3> rotations_;                     // per aggregate
   std::vector<Mat3> covariance_;                    // work space of update()
+  // Work space of build() (the linearised step builds again at every assembly of a matrix it
+  // keeps: no allocation there).
+  std::vector<Vec3> centre_;
+  std::vector<int> size_;
   std::vector<Eigen::Quaterniond> rotation_guess_;  // warm starts of the rotation extraction
   bool rotated_ = false;
   SavedRotations saved_;
