@@ -36,6 +36,34 @@ def test_dropped_cube_comes_to_rest_on_the_ground(integrator):
     assert abs((CUBE - sim.positions[top, 2].mean()) - squeeze) < 0.2 * squeeze
 
 
+@pytest.mark.parametrize("integrator", ["linearized", "newton"])
+@pytest.mark.parametrize("friction", [0.0, 0.5])
+def test_a_cube_thrown_up_from_the_ground_leaves_it(integrator, friction):
+    """A cube at rest on the ground, given 1 m/s upward, flies as it would with no ground
+    (up 5 cm and back): the ground only pushes. (Its resting contacts once held it down with
+    a pull of k times 1e-3 of the node's size each.)"""
+    _mesh, sim = cube(z0=0.0, integrator=integrator)
+    sim.add_obstacle(cr.Plane(), friction=friction)
+    sim.step(100)
+    free = cr.Simulation(sim.body, gravity=(0.0, 0.0, -9.81), integrator=integrator)
+    free.positions[:] = sim.positions
+    thrown = sim.velocities + np.array([0.0, 0.0, 1.0])
+    for s in (sim, free):
+        s.velocities[:] = thrown
+    start = sim.positions[:, 2].mean()
+    heights = []
+    for _ in range(15):  # up to about the apex (0.1 s at 1 m/s)
+        sim.step()
+        free.step()
+        heights.append((sim.positions[:, 2].mean(), free.positions[:, 2].mean()))
+        # Off the ground, no force from it.
+        np.testing.assert_allclose(sim.contact_force(), 0.0, atol=1e-9)
+    on_ground, in_free_flight = np.array(heights).T
+    rise = in_free_flight.max() - start
+    assert rise > 0.04  # (the free cube's own rise: 1 / (2 g) less implicit Euler's damping)
+    np.testing.assert_allclose(on_ground, in_free_flight, atol=1e-3 * rise)
+
+
 def test_contacts_report_the_planes_and_the_forces():
     mesh, sim = cube(z0=0.0)
     sim.add_obstacle(cr.Plane(), friction=0.3)

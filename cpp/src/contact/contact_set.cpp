@@ -853,8 +853,17 @@ bool ContactSet::update_active(const Nodes& x_new) {
     // the tissue a tool moved away from with a pull of k times the band, a few newtons per
     // node, for as long as they touched. (1e-6 at impacts too cost the landing armadillo five
     // times the CG iterations, in passes.)
+    //
+    // The node's own place is what tells whether it ended off the plane: held by a contact
+    // stiffness_scale times stiffer than the node itself is in the step, it ends barely off
+    // even when the contact pulls hard, and a body thrown off the floor stayed glued to it
+    // (a pull of k times the band, hundreds of times its weight). Let go, the node moves on
+    // by its pull over its own stiffness, k / stiffness_scale: so it is released once
+    // gap + stiffness_scale (gap - lambda / k) exceeds the band, and its force pulls.
     const double noise = (c.moving_surface ? 1e-6 : 1e-3) * c.size;
-    const bool active = c.active ? gap <= std::max(c.multiplier / c.stiffness, noise) : gap < -noise;
+    const double carried = c.multiplier / c.stiffness, scale = settings_.stiffness_scale;
+    const double band = std::max(carried, (noise + scale * carried) / (1 + scale));
+    const bool active = c.active ? gap <= band : gap < -noise;
     changed = changed || active != c.active;
     c.active = active;
   }
