@@ -6,6 +6,7 @@
 #include "corotate/integrators/kept_system.hpp"
 #include "corotate/models/model_factory.hpp"
 #include "corotate/simulation.hpp"
+#include "corotate/solvers/direct_solver.hpp"
 #include "corotate/solvers/pcg.hpp"
 #include "fixtures.hpp"
 #include "test_driver.hpp"
@@ -29,6 +30,16 @@ class FlakySolver final : public LinearSolver {
 
  private:
   PCG inner_;
+};
+
+// The direct solver told nothing: it factorizes at every solve.
+class FactorizingEverySolve final : public LinearSolver {
+ public:
+  void reset() override { inner_.reset(); }
+  SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override { return inner_.solve(A, b, x); }
+
+ private:
+  DirectSolver inner_;
 };
 
 std::unique_ptr<Simulation> beam(IntegratorKind kind, std::unique_ptr<LinearSolver> solver = nullptr,
@@ -150,6 +161,46 @@ TEST(a_failed_step_forgets_the_kept_matrix) {
   const Nodes& rest = a->model().rest_positions();
   const double moved = (b->positions() - rest).norm(), apart = (a->positions() - b->positions()).norm();
   CHECK(apart > 0 && apart <= 1e-3 * moved);
+}
+
+TEST(a_direct_solve_of_a_kept_matrix_reuses_its_factor_to_the_bit) {
+  // A step that keeps its matrix solves with the direct solver's last factor of it: the same
+  // factor a factorization would give, so the same motion to the bit.
+  auto direct = std::make_unique<DirectSolver>();
+  const DirectSolver* reusing = direct.get();
+  auto a = beam(IntegratorKind::Linearized, std::move(direct));
+  auto b = beam(IntegratorKind::Linearized, std::make_unique<FactorizingEverySolve>());
+  a->step(30);
+  b->step(30);
+  CHECK(a->stats().kept_matrix_steps > 10);
+  CHECK(reusing->factor_reuses() == a->stats().kept_matrix_steps);
+  CHECK((a->positions() - b->positions()).norm() == 0.0);
+  CHECK((a->velocities() - b->velocities()).norm() == 0.0);
+}
+
+TEST(a_direct_solver_reuses_a_factor_only_for_the_matrix_it_factorized) {
+  const auto mesh = fixtures::tet_beam(4, 2, 2);
+  const auto s = fixtures::implicit_system(mesh, kMaterial, 0.01);
+  BlockSparseMatrix other = s.A;
+  other.assign_scaled(2.0, s.A, true);  // another matrix, twice the values
+  const Vec b = fixtures::random_matrix<Vec>(s.A.num_dofs(), 1);
+  DirectSolver solver;
+  Vec x, y, fresh;
+  solver.solve(s.A, b, x);
+  solver.same_matrix_next();
+  solver.solve(s.A, b, y);
+  CHECK(solver.factor_reuses() == 1 && (x - y).norm() == 0.0);
+  solver.same_matrix_next();  // a hint for another matrix: factorized
+  solver.solve(other, b, y);
+  CHECK(solver.factor_reuses() == 1 && (2 * y - x).norm() <= 1e-10 * x.norm());
+  solver.reset();  // forgets the factor too
+  solver.same_matrix_next();
+  solver.solve(other, b, fresh);
+  CHECK(solver.factor_reuses() == 1 && (fresh - y).norm() == 0.0);
+  solver.same_matrix_next();
+  solver.solve(other, b, y);
+  solver.solve(other, b, y);  // the hint holds for one solve only
+  CHECK(solver.factor_reuses() == 2);
 }
 
 TEST(settings_are_validated_before_anything_changes) {

@@ -156,6 +156,7 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
       const auto t_solve = clock::now();
       // The preconditioner follows the frames the matrix was assembled in.
       if (!keep) in.solver.set_positions(in.x);
+      else in.solver.same_matrix_next();
       // Where the active set decides from the answer (an impact, a re-solve), the usual loose
       // tolerance would decide by noise (and a capped solve at an impact inverted elements).
       if (in.has_contacts() && (pass > 0 || in.contacts->has_impacts()))

@@ -5,13 +5,23 @@
 namespace corotate {
 
 SolveStats DirectSolver::solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) {
+  // (The hint holds for one solve, and only for the matrix factorized last: another one, a
+  // static solve's tangent say, is factorized.)
+  const bool same = same_matrix_next_ && factorized_ == &A;
+  same_matrix_next_ = false;
   if (coupling_) return solve_coupled(A, b, x);
-  A.copy_to(scalar_);
-  if (!analysed_) {
-    cholesky_.analyze(scalar_);
-    analysed_ = true;
+  if (same) {
+    ++factor_reuses_;
+  } else {
+    factorized_ = nullptr;
+    A.copy_to(scalar_);
+    if (!analysed_) {
+      cholesky_.analyze(scalar_);
+      analysed_ = true;
+    }
+    if (!cholesky_.factorize(scalar_)) throw not_positive_definite();
+    factorized_ = &A;
   }
-  if (!cholesky_.factorize(scalar_)) throw not_positive_definite();
   cholesky_.solve(b, x);
   return {0, relative_residual(A, b, x, residual_), true};
 }

@@ -1,6 +1,9 @@
 // Sparse direct solve by Cholesky factorization (sparse_cholesky.hpp: SuiteSparse CHOLMOD
-// when the build found it, else Eigen's SimplicialLDLT). The symbolic analysis is done once
-// per pattern and reused; each solve factorizes numerically.
+// when the build found it, else our own supernodal one). The symbolic analysis is done once
+// per pattern and reused; each solve factorizes numerically, except one told that its matrix
+// is the last one's (same_matrix_next: a step that kept its matrix), which solves with the
+// last factor: the same answer to the bit, without the factorization that is most of a
+// direct step.
 #pragma once
 
 #include "corotate/solvers/linear_solver.hpp"
@@ -12,8 +15,14 @@ class DirectSolver final : public LinearSolver {
  public:
   explicit DirectSolver(SparseCholesky::Backend backend = SparseCholesky::Backend::Auto)
       : cholesky_(backend), coupled_cholesky_(backend) {}
-  void reset() override { analysed_ = false; }
+  void reset() override {
+    analysed_ = false;
+    factorized_ = nullptr;
+  }
   SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) override;
+  void same_matrix_next() override { same_matrix_next_ = true; }
+  // Solves that used the last factor (same_matrix_next) instead of factorizing.
+  long long factor_reuses() const { return factor_reuses_; }
   const char* backend_name() const { return cholesky_.backend_name(); }
 
  private:
@@ -24,6 +33,9 @@ class DirectSolver final : public LinearSolver {
   SparseCholesky coupled_cholesky_;  // of A + C, analysed at every coupled solve
   Vec residual_;
   bool analysed_ = false;
+  const BlockSparseMatrix* factorized_ = nullptr;  // what cholesky_ holds the factor of
+  bool same_matrix_next_ = false;
+  long long factor_reuses_ = 0;
 };
 
 }  // namespace corotate

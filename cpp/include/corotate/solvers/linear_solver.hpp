@@ -67,6 +67,9 @@ class LinearSolver {
   // Solve A x = b. x holds the initial guess on entry (used by warm-started iterative
   // solvers) and the solution on exit.
   virtual SolveStats solve(const BlockSparseMatrix& A, const Vec& b, Vec& x) = 0;
+  // The next solve's A is the last solve's, value for value (a step that keeps its matrix,
+  // kept_system.hpp): a solver that factorizes may solve with its last factor of it.
+  virtual void same_matrix_next() {}
   // Whether the next solve reads blocks that BlockSparseMatrix::multiply_symmetric does not
   // (BlockSparseMatrix::is_product_block): if not, the step may skip assembling them
   // (Request::lower_blocks).
