@@ -168,6 +168,25 @@ def test_a_body_on_the_floor_keeps_its_matrix_and_takes_its_contacts_anew():
     np.testing.assert_allclose(kept.positions, every.positions, rtol=0, atol=1e-4 * moved)
 
 
+def test_a_body_thrown_up_from_the_floor_flies_with_the_kept_matrix_as_with_every_one_assembled():
+    # Its contacts let go in the step it is thrown (released in a second pass) and are gone
+    # in flight: the kept matrix must hold none of them.
+    runs = {}
+    for angle in (0.0, 0.03):
+        mesh = cr.box((0.2, 0.2, 0.1), cells=(4, 4, 2))
+        sim = cr.Simulation(cr.Body(mesh, MAT), dt=0.01, gravity=(0, 0, -9.81), matrix_reuse_angle=angle)
+        sim.add_obstacle(cr.Plane(point=(0, 0, -0.001)), friction=0.3)
+        sim.step(30)
+        sim.velocities[:, 2] += 1.0
+        sim.step(10)
+        runs[angle] = sim
+    every, kept = runs[0.0], runs[0.03]
+    assert kept.stats["kept_matrix_steps"] >= 30 and len(kept.contacts["nodes"]) == 0
+    assert kept.displacements[:, 2].min() > 0.04  # up, as 1 m/s carries it in 0.1 s
+    moved = np.abs(every.displacements).max()
+    np.testing.assert_allclose(kept.positions, every.positions, rtol=0, atol=1e-4 * moved)
+
+
 @pytest.mark.parametrize("bad", [-0.1, 0.6, float("nan"), float("inf")])
 def test_a_reuse_angle_out_of_range_is_refused(bad):
     body = cr.Body(cr.box(), MAT)
