@@ -15,6 +15,12 @@ if TYPE_CHECKING:
     from collections.abc import Sequence
 
 
+def node_offsets(bodies: Sequence[Body]) -> np.ndarray:
+    """Where each body's nodes start when the bodies' nodes are numbered one after another,
+    and their total at the end (len(bodies) + 1 entries)."""
+    return np.cumsum([0] + [b.n_nodes for b in bodies])
+
+
 def check_solid_bodies(bodies: Sequence[Body], what: str) -> tuple[Body, ...]:
     """The bodies as a tuple; TypeError for one that is not a Body, ValueError for none or a
     sheet (sheets touch nothing yet)."""
@@ -53,7 +59,7 @@ class JoinedBody(ModelQueries, SettableOnly):
     def __init__(self, bodies: Sequence[Body]) -> None:
         bodies = check_solid_bodies(bodies, "a joined body")
         self._bodies = bodies
-        self._offsets = np.cumsum([0] + [b.n_nodes for b in bodies])
+        self._offsets = node_offsets(bodies)
         rest = np.concatenate([b.mesh.points for b in bodies])
         rest.flags.writeable = False
         self._rest = rest

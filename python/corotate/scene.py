@@ -19,7 +19,7 @@ from ._scene_nodes import SceneNodes
 from .body import Body
 from .embedding import EmbeddedSurface
 from .feedback import HapticFeedback
-from .joined_body import JoinedBody, check_solid_bodies
+from .joined_body import JoinedBody, check_solid_bodies, node_offsets
 from .mesh import Mesh
 from .mesh_checks import _unchecked
 from .simulation import Simulation
@@ -55,7 +55,7 @@ class Scene:
     def __init__(self, bodies: Sequence[Body]) -> None:
         bodies = check_solid_bodies(bodies, "a scene")
         self._bodies = bodies
-        self._offsets = np.cumsum([0] + [b.n_nodes for b in bodies])
+        self._offsets = node_offsets(bodies)
         first = bodies[0]
         alike = all(
             (b.mesh.cell_type, b.model, b.project_psd) == (first.mesh.cell_type, first.model, first.project_psd)
@@ -134,7 +134,7 @@ def _one_body(bodies: Sequence[Body]) -> Body:
     renumbered after the bodies' before it (one material per region). The fast path: one
     model sweeps every element (the co-rotated tets' float32 assembly included)."""
     first = bodies[0]
-    offsets = np.cumsum([0] + [b.n_nodes for b in bodies])
+    offsets = node_offsets(bodies)
     points = np.concatenate([b.mesh.points for b in bodies])
     cells = np.concatenate([b.mesh.cells + offsets[k] for k, b in enumerate(bodies)])
     materials: dict[int, Any] = {}
