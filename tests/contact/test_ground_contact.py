@@ -64,6 +64,24 @@ def test_a_cube_thrown_up_from_the_ground_leaves_it(integrator, friction):
     np.testing.assert_allclose(on_ground, in_free_flight, atol=1e-3 * rise)
 
 
+def test_a_slender_block_tipped_over_falls_onto_its_side_as_the_newton_step_has_it():
+    """A 5 x 5 x 30 cm block standing on its end, tipped at 2 rad/s about its bottom edge:
+    both integrators let it fall onto its side. (The linearised step's resting contacts once
+    held its foot down and kept it standing.)"""
+    mesh = cr.box((0.05, 0.05, 0.3), (2, 2, 12), origin=(-0.025, -0.025, 0.0))
+    body = cr.Body(mesh, cr.Material(E=1e6, nu=0.3, density=1000.0))
+    heights = {}
+    for integrator, solver in (("linearized", cr.PCG()), ("newton", cr.Direct())):
+        sim = cr.Simulation(body, gravity=(0.0, 0.0, -9.81), integrator=integrator, solver=solver, newton_iterations=60)
+        sim.add_obstacle(cr.Plane(), friction=0.8)
+        sim.velocities[:] = np.cross([2.0, 0.0, 0.0], mesh.points - [0.0, 0.025, 0.0])
+        sim.step(100)
+        heights[integrator] = sim.positions[:, 2].mean()
+        assert np.abs(sim.velocities).max() < 1e-3  # at rest again
+    assert abs(heights["newton"] - 0.025) < 1e-3  # its centre half its width up: on its side
+    assert abs(heights["linearized"] - heights["newton"]) < 1e-3
+
+
 def test_contacts_report_the_planes_and_the_forces():
     mesh, sim = cube(z0=0.0)
     sim.add_obstacle(cr.Plane(), friction=0.3)
