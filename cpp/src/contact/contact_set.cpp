@@ -845,21 +845,19 @@ bool ContactSet::update_active(const Nodes& x_new) {
   bool changed = false;
   for (Contact& c : contacts_) {
     const double gap = c.normal.dot(relative(c, x_new) - c.anchor);
-    // Released where its linear force pulls (gap > lambda / k) and the node ended clearly off
-    // the plane: a contact resting on the surface ends within an inexact solve's noise of it,
-    // where the sign of its force would flip from pass to pass (and every flip costs a pass
-    // with an accurate solve). "Clearly" is 1e-3 of the node's size on a surface at rest, and
-    // 1e-6 on a moving one (solved accurately anyway, has_impacts): there a band of 1e-3 held
-    // the tissue a tool moved away from with a pull of k times the band, a few newtons per
-    // node, for as long as they touched. (1e-6 at impacts too cost the landing armadillo five
-    // times the CG iterations, in passes.)
+    // Released where its linear force pulls (gap > lambda / k) and the node, let go, would
+    // end clearly off the plane: a contact resting on the surface ends within an inexact
+    // solve's noise of it, where the sign of its force would flip from pass to pass (and every
+    // flip costs a pass with an accurate solve). "Clearly" is 1e-3 of the node's size on a
+    // surface at rest, and 1e-6 on a moving one (solved accurately anyway, has_impacts): there
+    // a band of 1e-3 held the tissue a tool moved away from. (1e-6 at impacts too cost the
+    // landing armadillo five times the CG iterations, in passes.)
     //
-    // The node's own place is what tells whether it ended off the plane: held by a contact
-    // stiffness_scale times stiffer than the node itself is in the step, it ends barely off
-    // even when the contact pulls hard, and a body thrown off the floor stayed glued to it
-    // (a pull of k times the band, hundreds of times its weight). Let go, the node moves on
-    // by its pull over its own stiffness, k / stiffness_scale: so it is released once
-    // gap + stiffness_scale (gap - lambda / k) exceeds the band, and its force pulls.
+    // "Let go": held by a contact stiffness_scale times stiffer than the node itself is in the
+    // step, a node ends barely off the plane even when the contact pulls hard. Tested on its
+    // gap alone, a body thrown off the floor stayed on it (each contact pulling with up to k
+    // times the band, hundreds of times its node's weight). Let go, the node moves on by its
+    // pull over its own stiffness, k / stiffness_scale, to gap + stiffness_scale (gap - lambda / k).
     const double noise = (c.moving_surface ? 1e-6 : 1e-3) * c.size;
     const double carried = c.multiplier / c.stiffness, scale = settings_.stiffness_scale;
     const double band = std::max(carried, (noise + scale * carried) / (1 + scale));

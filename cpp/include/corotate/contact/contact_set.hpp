@@ -251,7 +251,8 @@ class ContactSet final : public SystemCoupling {
   // takes back released ones whose node ended inside; returns whether any changed. Both only
   // beyond 1e-3 of the node's size (1e-6 on a moving surface, solved accurately): a node
   // that rests on or touches a surface ends within an inexact solve's noise of it, and would
-  // flip from pass to pass.
+  // flip from pass to pass. A pulled node is judged where it would end let go (its gap plus
+  // its pull over its own stiffness), not where the stiff contact held it.
   bool update_active(const Nodes& x_new);
   // Makes every contact active (the Newton step: its potentials' max(0, .) is its own
   // active set).
