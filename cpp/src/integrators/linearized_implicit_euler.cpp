@@ -100,7 +100,14 @@ class LinearizedImplicitEuler final : public ImplicitIntegrator {
         else system_.assign_scaled(1 + dt * alpha, mass_, lower_blocks);
       } else if (kept_has_contacts_ || contacts) {
         single->restore_values(kept_image_);  // the body's part, without the last contacts
+      } else if (lower_blocks && !kept_lower_blocks_) {
+        // A solver that now factorizes (a reference factor refreshing) reads the lower blocks,
+        // which the kept matrix was assembled without. Mirrored rather than assembled: the
+        // matrix and the steps that keep it stay what they were.
+        system_.mirror_upper_blocks();
+        kept_lower_blocks_ = true;
       }
+      if (!keep) kept_lower_blocks_ = single || lower_blocks;
       Request what;
       what.lower_blocks = lower_blocks;
       what.forces = true;

@@ -87,6 +87,12 @@ void BlockSparseMatrix::assign_scaled(double a, const BlockSparseMatrix& other, 
   }
 }
 
+void BlockSparseMatrix::mirror_upper_blocks() {
+  for (Index i = 0; i < num_nodes(); ++i)
+    for (int k = chunk_lower_[i]; k < diagonal_[i]; ++k)  // (the blocks is_product_block skips)
+      block(k) = block(block_index(columns_[k], i)).transpose();
+}
+
 void BlockSparseMatrix::multiply(const Vec& x, Vec& y) const {
   const Index n = num_nodes();
   const double* val = values_.data();

@@ -70,6 +70,7 @@ class ImplicitIntegrator : public Integrator {
   std::vector<float> kept_image_;
   bool kept_image_valid_ = false;
   bool kept_has_contacts_ = false;  // the float32 values hold the last step's contact terms
+  bool kept_lower_blocks_ = false;  // the kept double matrix has its lower blocks
 };
 
 }  // namespace corotate

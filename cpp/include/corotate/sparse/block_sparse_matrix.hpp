@@ -46,6 +46,10 @@ class BlockSparseMatrix {
   // this = a * other (same pattern); no allocation. With lower_blocks false only the blocks
   // multiply_symmetric reads (is_product_block) are assigned; the rest keep what they held.
   void assign_scaled(double a, const BlockSparseMatrix& other, bool lower_blocks = true);
+  // The blocks multiply_symmetric does not read, set to the transposes of their mirrors: a
+  // matrix assembled with lower_blocks false made whole for a factorization. O(blocks log
+  // row length): for the rare step that needs it.
+  void mirror_upper_blocks();
   // y = A x (x, y: num_dofs()).
   void multiply(const Vec& x, Vec& y) const;
   // y = A x for an exactly symmetric A (the system matrices of a step: assembly mirrors each
