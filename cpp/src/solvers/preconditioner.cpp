@@ -75,12 +75,10 @@ void ReferenceFactorPreconditioner::turn(Index num_nodes, bool rebuilding) {
 
 void ReferenceFactorPreconditioner::solved(bool converged) {
   refresh_ = refresh_ || !converged;
-  if (contacts_now() || factor_contacts_) {
-    if ((coupling_ && !factor_coupled_) || (contacts_now() && !factor_contacts_)) refresh_ = true;
-    fewest_ = std::min(fewest_, applies_);
-    excess_ += std::max(0, applies_ - fewest_ - 1);
-    if (excess_ >= kRefreshCostScale * factor_.refactorization_cost_in_solves()) refresh_ = true;
-  }
+  if ((coupling_ && !factor_coupled_) || (contacts_now() && !factor_contacts_)) refresh_ = true;
+  fewest_ = std::min(fewest_, applies_);
+  excess_ += std::max(0, applies_ - fewest_ - 1);
+  if (excess_ >= kRefreshCostScale * factor_.refactorization_cost_in_solves()) refresh_ = true;
   applies_ = 0;
 }
 
