@@ -221,8 +221,8 @@ TEST(a_step_whose_solver_asks_for_the_lower_blocks_gets_them_even_where_it_could
   const AskingForLowerBlocks* solver = asking.get();
   auto sim = beam(IntegratorKind::Linearized, std::move(asking));
   sim->step(40);
-  std::printf("  asked %d times, %d of them on steps that kept their matrix; %lld kept steps of 40\n",
-              solver->asked, solver->asked_on_kept, sim->stats().kept_matrix_steps);
+  std::printf("  asked %d times, %d of them on steps that kept their matrix; %lld kept steps of 40\n", solver->asked,
+              solver->asked_on_kept, sim->stats().kept_matrix_steps);
   CHECK(solver->asked == 8 && sim->stats().kept_matrix_steps > 10);
   CHECK(solver->lacking == 0);
 }

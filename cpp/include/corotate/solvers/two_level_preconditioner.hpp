@@ -50,6 +50,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
+#include <array>
 #include <vector>
 
 #include "corotate/solvers/aggregate_rotations.hpp"
@@ -103,8 +104,8 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // The coarse factor to the current diagonal terms (refactorized when they changed enough).
   void update_coarse_terms();
   void factorize_coarse(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& coarse);
-  // coarse_with_terms_ = coarse_ + this solve's and the last solve's terms (any: there are
-  // terms now).
+  // coarse_with_terms_ = coarse_ + the terms of this solve and of the kRecentSolves - 1
+  // before it, each node's latest (any: there are terms now).
   void add_terms_to_coarse(bool any);
   // coarse_with_terms_ += the terms through P, Galerkin (skip: nodes to leave out).
   void add_terms(const DiagonalTerms& terms, const std::vector<char>* skip);
@@ -136,10 +137,14 @@ class TwoLevelPreconditioner final : public Preconditioner {
   // tets: 1.21 -> 0.78 s on a Xeon with AVX-512).
   SparseCholesky coarse_factor_{SparseCholesky::Backend::Supernodal};
   Vec coarse_rhs_, coarse_solution_, turned_;
-  // The diagonal terms (see the header comment): the coarse matrix with them, the last
-  // solve's (the factor covers both), and what the factor cost since it was made.
+  // The diagonal terms (see the header comment): the coarse matrix with them, the recent
+  // solves' (the factor covers them all: add_terms_to_coarse), and what the factor cost
+  // since it was made.
   const DiagonalTerms* terms_ = nullptr;
-  DiagonalTerms previous_terms_;
+  static constexpr int kRecentSolves = 4;
+  // The terms of the last kRecentSolves - 1 solves, the latest at recent_latest_.
+  std::array<DiagonalTerms, kRecentSolves - 1> recent_terms_;
+  int recent_latest_ = 0;
   const SystemCoupling* coupling_ = nullptr;
   // The aggregate pairs beyond coarse_'s pattern in coarse_with_terms_'s (sorted, both
   // orders), where coarse_'s entries sit in it, and work space.
@@ -156,7 +161,8 @@ class TwoLevelPreconditioner final : public Preconditioner {
   long refactor_cost_in_applies_ = 10;
   // save_state's copy of the above, and the coarse values of the factor a failed call replaced.
   struct TermsState {
-    DiagonalTerms previous_terms;
+    std::array<DiagonalTerms, kRecentSolves - 1> recent_terms;
+    int recent_latest = 0;
     bool factored_with_terms = false;
     long fewest_applies = 0, excess_applies = 0;
     int refactorizations = 0;
