@@ -127,10 +127,10 @@ class ReferenceFactorPreconditioner final : public Preconditioner {
   //   solve) add up to what a numeric refactorization costs (kRefreshCostScale): a body that
   //   settled far from the state it was factorized at, a landing, a body lifted off,
   //   contacts moved elsewhere. (With contacts only before: Table 1's cage, factorized at
-  //   rest, sagged under gravity and took 2.67 CG iterations per step over 3,000 steps where
-  //   two refreshes make it 1.48, 115 -> 140x real time. A fixed 40 before that: the cage
-  //   dropped on the floor ran 3-5 iterations per step for 20-30 steps at a time where a
-  //   fresh factor gives one.)
+  //   rest, sagged under gravity and took 2.64 CG iterations per step over 3,000 steps where
+  //   refreshes make it 1.46: `python -m studies.table1_dog --phases 3000`. A fixed 40
+  //   before that: the cage dropped on the floor ran 3-5 iterations per step for 20-30 steps
+  //   at a time where a fresh factor gives one.)
   // The contacts' diagonal blocks are in A already; a factor of A takes them in.
   void solved(bool converged) override;
   void set_diagonal_terms(const DiagonalTerms* terms) override { terms_ = terms; }
